@@ -1,0 +1,19 @@
+# Warning and optimisation flags shared by every target of the project (not exported).
+add_library(libdem_flags INTERFACE)
+target_compile_options(libdem_flags INTERFACE -Wall -Wextra -Wpedantic -Wshadow)
+# GCC 12 reports false -Wrestrict positives inside libstdc++ string concatenation at -O2/-O3
+# (GCC bug 105329); it is not about our code.
+if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+  target_compile_options(libdem_flags INTERFACE -Wno-restrict)
+endif()
+if(LIBDEM_WERROR)
+  target_compile_options(libdem_flags INTERFACE -Werror)
+endif()
+if(LIBDEM_NATIVE)
+  target_compile_options(libdem_flags INTERFACE -march=native)
+endif()
+if(LIBDEM_SANITIZE)
+  target_compile_options(libdem_flags INTERFACE -fsanitize=address,undefined -fno-omit-frame-pointer
+                                                -fno-sanitize-recover=undefined)
+  target_link_options(libdem_flags INTERFACE -fsanitize=address,undefined)
+endif()

@@ -1,0 +1,78 @@
+// Pluggable contact laws. A law is a plain type (STYLE.md section 3):
+//
+//   struct MyLaw {
+//     struct Params { ...; void validate(const std::string& where) const; };   // SI
+//     struct State  { ... };   // per-contact history; a value-initialised State is a fresh contact
+//     static constexpr const char* name = "my-law";
+//     static ContactForce force(const Params&, const ContactKinematics&, State&);
+//     static ContactStiffness stiffness(const Params&, const ContactKinematics&);
+//   };
+//
+// and `make_contact_model<MyLaw>(params)` turns it into a ContactModel that the World uses for one
+// contact type. The choice of law is made at run time, once per contact type; the loop over the
+// contacts of that type is a template on the concrete law (run-time choice, compile-time loop),
+// so a new law costs no engine edit and no virtual call per contact.
+#pragma once
+
+#include <concepts>
+#include <memory>
+#include <new>
+#include <string>
+#include <type_traits>
+
+#include <dem/contact/contact_sets.hpp>
+#include <dem/contact/kinematics.hpp>
+
+namespace dem {
+
+struct ParticleStore;
+struct FacetWall;
+
+template <class L>
+concept ContactLaw = requires(const typename L::Params& p, const ContactKinematics& k, typename L::State& s) {
+  { L::force(p, k, s) } -> std::same_as<ContactForce>;
+  { L::stiffness(p, k) } -> std::same_as<ContactStiffness>;
+  { p.validate(std::string{}) };
+  { L::name } -> std::convertible_to<const char*>;
+} && std::is_trivially_destructible_v<typename L::State> && std::is_default_constructible_v<typename L::State>;
+
+/// Threads worth using for a loop of `count` items: small loops run serially, since starting a
+/// parallel region costs more than it saves (and oversubscribed cores make it far worse).
+inline int threads_for(std::int64_t count, int threads) { return count >= 4096 ? threads : 1; }
+
+/// Everything a contact kernel needs besides the contacts themselves.
+struct KernelContext {
+  const ParticleStore* particles = nullptr;
+  const std::vector<FacetWall>* walls = nullptr;
+  double dt = 0.0;  // s
+  int threads = 1;
+};
+
+/// A contact law bound to its parameters, for one contact type.
+class ContactModel {
+ public:
+  virtual ~ContactModel() = default;
+  virtual const char* law_name() const = 0;
+
+  /// Computes the forces of all pair candidates (ball-ball or ball-pebble) into `contacts`.
+  virtual void compute(PairContacts& contacts, const KernelContext& ctx, OverlapMonitor& worst) const = 0;
+  /// Computes the forces of all ball-facet candidates into `contacts`.
+  virtual void compute(WallContacts& contacts, const KernelContext& ctx, OverlapMonitor& worst) const = 0;
+  /// Stiffnesses of one contact, for time-step estimates.
+  virtual ContactStiffness stiffness(const ContactKinematics& k) const = 0;
+
+  /// Resizes `buffer` to `count` fresh States.
+  virtual void reset_states(StateBuffer& buffer, std::size_t count) const = 0;
+  /// Builds `target` (count = source_of.size()): entry k copies source[source_of[k]], or is fresh if -1.
+  virtual void remap_states(const StateBuffer& source, const std::vector<std::int64_t>& source_of,
+                            StateBuffer& target) const = 0;
+};
+
+/// Binds a law to its parameters (validated here; `where` names them in errors, e.g. "ball-ball").
+template <ContactLaw Law>
+std::shared_ptr<const ContactModel> make_contact_model(const typename Law::Params& params,
+                                                       const std::string& where = "contact");
+
+}  // namespace dem
+
+#include <dem/contact/detail/contact_model_impl.hpp>

@@ -1,0 +1,65 @@
+// Storage of the contacts of one contact type: the candidate pairs found by the broad phase
+// (a Verlet list: pairs closer than the sum of radii plus the skin), the contact law's history
+// for each of them, and the forces of the last step.
+//
+// The history is a byte buffer with one law State per candidate, created and copied only through
+// the law-typed ContactModel (contact_model.hpp). A candidate that is not touching holds a fresh
+// State, so history lives exactly as long as the contact (MODEL.md 1.1: history resets when the
+// pieces separate). Forces are written per contact and then gathered per particle in a fixed
+// order, which makes results independent of the thread count.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include <dem/contact/kinematics.hpp>
+#include <dem/core/math.hpp>
+
+namespace dem {
+
+/// Untyped per-contact law history: `count` States of `stride` bytes each.
+struct StateBuffer {
+  std::vector<std::byte> bytes;
+  std::size_t stride = 0;
+  std::size_t count = 0;
+  std::byte* at(std::size_t k) { return bytes.data() + k * stride; }
+  const std::byte* at(std::size_t k) const { return bytes.data() + k * stride; }
+};
+
+/// Ball-ball or ball-pebble candidates. Piece 1 (`first`) is always a ball.
+struct PairContacts {
+  ContactKind kind = ContactKind::BallBall;
+  std::vector<std::int32_t> first, second;  // storage indices of the two pieces
+  StateBuffer state;
+  std::vector<Vec3> force;           // N, on piece 2 (piece 1 gets -force)
+  std::vector<Vec3> torque_first;    // N m, total torque on piece 1 about its centre
+  std::vector<Vec3> torque_second;   // N m, total torque on piece 2 about its centre
+  std::vector<double> normal_force;  // N, elastic, compression positive; 0 if not touching
+  std::size_t size() const { return first.size(); }
+};
+
+/// Ball-facet candidates: one per (ball, wall), with the wall's triangles near that ball. A ball
+/// gets a single contact per wall at the closest point of those triangles, so a ball on the
+/// shared edge of two triangles is never counted twice and keeps its history across the edge.
+struct WallContacts {
+  std::vector<std::int32_t> ball, wall;
+  std::vector<std::int32_t> triangle_begin, triangle_end;  // range in `triangles`
+  std::vector<std::int32_t> triangles;                      // triangle indices in the wall's mesh
+  StateBuffer state;
+  std::vector<Vec3> force;           // N, on the wall (the ball gets -force)
+  std::vector<Vec3> torque_ball;     // N m, on the ball about its centre
+  std::vector<Vec3> point;           // m, contact point
+  std::vector<Vec3> moment;          // N m, pure moment on the wall (rolling resistance)
+  std::vector<double> normal_force;  // N, elastic, compression positive; 0 if not touching
+  std::vector<double> normal_stiffness;  // N/m, 0 if not touching
+  std::size_t size() const { return ball.size(); }
+};
+
+/// Worst contact of a step, for the instability check.
+struct OverlapMonitor {
+  double ratio = 0.0;    // overlap / radius of the smaller piece
+  std::int64_t contact = -1;
+};
+
+}  // namespace dem

@@ -1,0 +1,160 @@
+// The World owns a simulation: particles, clumps, facet walls, the contact models of each contact
+// type, the broad phase and the clock. There are no globals: two Worlds are independent.
+//
+// A step (leapfrog, as PFC's velocity Verlet with velocities half a step behind, MODEL.md 2):
+//   1. rebuild the Verlet lists if something moved more than allowed by the skin;
+//   2. contact forces from the positions at t and the velocities at t - dt/2, gathered per
+//      particle in a fixed order (results do not depend on the thread count);
+//   3. controllers run (servo walls, user protocols) and may change wall velocities;
+//   4. balls and clumps are integrated with local (non-viscous) damping; walls move;
+//   5. the instability checks run; every-N-steps callbacks run.
+//
+// Typical use:
+//   dem::World world{settings};
+//   world.add_ball({...});
+//   world.set_contact_model(dem::ContactKind::BallBall,
+//       dem::make_contact_model<dem::RollingLinearLaw>(params, "ball-ball"));
+//   world.step(1000);
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <dem/boundary/clump.hpp>
+#include <dem/boundary/facet_wall.hpp>
+#include <dem/contact/contact_model.hpp>
+#include <dem/contact/contact_sets.hpp>
+#include <dem/core/particles.hpp>
+#include <dem/grid/cell_grid.hpp>
+
+namespace dem {
+
+struct WorldSettings {
+  double time_step = 0.0;            // s; 0: estimated from stiffnesses and masses (MODEL.md 3.2)
+  double time_step_safety = 0.8;     // -, dt = safety * critical estimate
+  double local_damping = 0.7;        // -, PFC local damping alpha (0 for dynamic problems)
+  Vec3 gravity = Vec3::Zero();       // m/s^2
+  double skin = 0.0;                 // m, Verlet skin; 0: 0.2 x the smallest ball radius... see .cpp
+  int sort_every = 20;               // re-sort particles in cell order every this many rebuilds (0: never)
+  int threads = 0;                   // 0: OpenMP default (OMP_NUM_THREADS)
+  double max_overlap_ratio = 0.5;    // -, overlap / radius that stops the run as unstable
+  double max_step_travel_ratio = 0.25;  // -, distance moved in one step / radius that stops the run
+  bool pebble_pebble_contacts = false;  // contacts between pebbles of different clumps (ball-pebble law)
+};
+
+/// One contact as seen by measurements and outputs, after a step.
+struct ContactView {
+  ContactKind kind;
+  std::size_t first;       // storage index of the ball (piece 1)
+  std::int64_t second;     // storage index of piece 2 (ball or pebble), or the wall index
+  Vec3 normal;             // unit, piece 1 -> piece 2
+  Vec3 point;              // m, contact point
+  Vec3 force;              // N, on piece 2
+  double normal_force;     // N, elastic, compression positive
+};
+
+class World {
+ public:
+  explicit World(WorldSettings settings = {});
+
+  // --- building -----------------------------------------------------------------------------
+  ParticleId add_ball(const BallSpec& spec);
+  ClumpId add_clump(const ClumpSpec& spec);
+  WallId add_wall(FacetWall wall);
+  void set_contact_model(ContactKind kind, std::shared_ptr<const ContactModel> model);
+  const ContactModel* contact_model(ContactKind kind) const { return models_[static_cast<int>(kind)].get(); }
+
+  // --- running ------------------------------------------------------------------------------
+  /// Advances n steps.
+  void step(std::int64_t n = 1);
+  /// Steps until `done(world)` is true, checking every `check_every` steps; returns false if
+  /// `max_steps` were taken first.
+  bool run_until(const std::function<bool(const World&)>& done, std::int64_t check_every, std::int64_t max_steps);
+  /// Called every step after the contact forces, before integration (servo walls, protocols).
+  void add_controller(std::function<void(World&)> controller);
+  /// Called after every `every` steps.
+  void add_callback(std::int64_t every, std::function<void(World&)> callback);
+
+  double time() const { return time_; }                 // s
+  std::int64_t step_count() const { return steps_; }
+  double time_step() const { return dt_; }              // s (0 until the first step if automatic)
+  void set_time_step(double dt);
+  /// Critical time step estimate min over bodies of sqrt(m/K) (MODEL.md 3.2), s.
+  double critical_time_step() const;
+  /// Re-estimates the automatic time step now (after generation or a stiffness change).
+  void update_time_step();
+  int threads() const { return threads_; }
+
+  // --- state ---------------------------------------------------------------------------------
+  const ParticleStore& particles() const { return particles_; }
+  /// Mutable access; call invalidate_contacts() after moving particles or changing radii by hand.
+  ParticleStore& particles() { return particles_; }
+  void invalidate_contacts() { need_rebuild_ = true; }
+  const std::vector<Clump>& clumps() const { return clumps_; }
+  std::vector<Clump>& clumps() { return clumps_; }
+  const std::vector<FacetWall>& walls() const { return walls_; }
+  FacetWall& wall(WallId id) { return walls_.at(static_cast<std::size_t>(id)); }
+  const FacetWall& wall(WallId id) const { return walls_.at(static_cast<std::size_t>(id)); }
+  const WorldSettings& settings() const { return settings_; }
+  void set_local_damping(double alpha);
+  void set_gravity(const Vec3& g) { settings_.gravity = g; }
+
+  /// Visits every touching contact of the last step.
+  void for_each_contact(const std::function<void(const ContactView&)>& visit) const;
+  /// Number of touching contacts of a type in the last step.
+  std::size_t contact_count(ContactKind kind) const;
+  /// Translational + rotational kinetic energy of balls and clumps, J (velocities at t - dt/2).
+  double kinetic_energy() const;
+  /// Mean |unbalanced force| over free balls divided by the mean contact normal force (PFC's ratio).
+  double unbalanced_force_ratio() const;
+
+  // --- internals exposed for checkpoints and tests --------------------------------------------
+  const PairContacts& pair_contacts(ContactKind kind) const;
+  const WallContacts& wall_contacts() const { return wall_contacts_; }
+  std::int64_t rebuild_count() const { return rebuilds_; }
+  /// Forces a neighbour-list rebuild with re-sorting now (tests of history preservation).
+  void rebuild_now(bool resort);
+
+ private:
+  void rebuild(bool resort);
+  void compute_forces();
+  void gather_forces();
+  void integrate();
+  void update_pebbles();
+  void check_stability(const OverlapMonitor& pairs_worst, ContactKind pairs_kind);
+  bool needs_rebuild() const;
+  [[noreturn]] void fail(const std::string& what, std::size_t particle) const;
+  double resolved_skin() const;
+
+  WorldSettings settings_;
+  int threads_ = 1;
+  ParticleStore particles_;
+  std::vector<Clump> clumps_;
+  std::vector<FacetWall> walls_;
+  std::array<std::shared_ptr<const ContactModel>, contact_kind_count> models_{};
+
+  CellGrid grid_;
+  PairContacts ball_ball_, ball_pebble_;
+  WallContacts wall_contacts_;
+  // Per-particle incidence (CSR) for the fixed-order force gather: entry = contact * 2 + side.
+  std::vector<std::int32_t> bb_offsets_, bb_entries_, bp_offsets_, bp_entries_;
+  std::vector<Vec3> x_at_rebuild_;
+  std::vector<Vec3> wall_disp_at_rebuild_;
+  bool need_rebuild_ = true;
+  std::int64_t rebuilds_ = 0;
+
+  std::vector<std::function<void(World&)>> controllers_;
+  std::vector<std::pair<std::int64_t, std::function<void(World&)>>> callbacks_;
+
+  double dt_ = 0.0;
+  double time_ = 0.0;
+  std::int64_t steps_ = 0;
+  double max_travel_sq_ = 0.0;  // largest squared displacement since the last rebuild, m^2
+  double max_wall_travel_ = 0.0;
+};
+
+}  // namespace dem

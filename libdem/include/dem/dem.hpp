@@ -1,0 +1,13 @@
+// libdem: everything a simulation needs, in one include.
+#pragma once
+
+#include <dem/boundary/clump.hpp>
+#include <dem/boundary/facet_wall.hpp>
+#include <dem/contact/contact_model.hpp>
+#include <dem/contact/linear_law.hpp>
+#include <dem/core/errors.hpp>
+#include <dem/core/math.hpp>
+#include <dem/core/particles.hpp>
+#include <dem/core/world.hpp>
+#include <dem/geometry/mesh.hpp>
+#include <dem/geometry/triangle.hpp>

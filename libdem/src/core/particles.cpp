@@ -1,0 +1,69 @@
+#include <dem/core/particles.hpp>
+
+#include <string>
+
+#include <dem/core/errors.hpp>
+
+namespace dem {
+
+namespace {
+template <class T>
+void apply_order(std::vector<T>& data, const std::vector<std::int32_t>& order) {
+  std::vector<T> sorted(data.size());
+  for (std::size_t k = 0; k < order.size(); ++k) sorted[k] = data[static_cast<std::size_t>(order[k])];
+  data.swap(sorted);
+}
+}  // namespace
+
+ParticleId ParticleStore::add(const BallSpec& s, std::int32_t owner_clump) {
+  const std::string what = "ball " + std::to_string(size());
+  require(s.position.allFinite(), what + " position", "(non-finite)", "finite");
+  require_positive(what + " radius", s.radius);
+  if (owner_clump < 0) require_positive(what + " density", s.density);
+  const ParticleId pid = static_cast<ParticleId>(size());
+  const double m = s.density * 4.0 / 3.0 * pi * s.radius * s.radius * s.radius;
+  x.push_back(s.position);
+  v.push_back(s.velocity);
+  w.push_back(s.angular_velocity);
+  f.push_back(Vec3::Zero());
+  t.push_back(Vec3::Zero());
+  radius.push_back(s.radius);
+  mass.push_back(m);
+  inv_mass.push_back(m > 0.0 ? 1.0 / m : 0.0);
+  inv_inertia.push_back(m > 0.0 ? 1.0 / (0.4 * m * s.radius * s.radius) : 0.0);
+  id.push_back(pid);
+  group.push_back(s.group);
+  clump.push_back(owner_clump);
+  fixed.push_back(s.fixed);
+  index_of_id_.push_back(pid);
+  return pid;
+}
+
+void ParticleStore::set_radius(std::size_t i, double new_radius) {
+  require_positive("radius of ball id " + std::to_string(id[i]), new_radius);
+  const double scale = new_radius / radius[i];
+  radius[i] = new_radius;
+  const double m = mass[i] * scale * scale * scale;
+  mass[i] = m;
+  inv_mass[i] = 1.0 / m;
+  inv_inertia[i] = 1.0 / (0.4 * m * new_radius * new_radius);
+}
+
+void ParticleStore::permute(const std::vector<std::int32_t>& order) {
+  apply_order(x, order);
+  apply_order(v, order);
+  apply_order(w, order);
+  apply_order(f, order);
+  apply_order(t, order);
+  apply_order(radius, order);
+  apply_order(mass, order);
+  apply_order(inv_mass, order);
+  apply_order(inv_inertia, order);
+  apply_order(id, order);
+  apply_order(group, order);
+  apply_order(clump, order);
+  apply_order(fixed, order);
+  for (std::size_t k = 0; k < id.size(); ++k) index_of_id_[static_cast<std::size_t>(id[k])] = static_cast<std::int32_t>(k);
+}
+
+}  // namespace dem

@@ -1,0 +1,88 @@
+// Contact forces of one step: each contact type runs its own law-typed loop, writing one force
+// record per contact; then every particle sums its records in a fixed order (its incidence list),
+// so the result is bit-identical for any thread count.
+#include <cmath>
+
+#include <dem/core/errors.hpp>
+#include <dem/core/world.hpp>
+
+namespace dem {
+
+namespace {
+
+const ContactModel& model_for(const std::shared_ptr<const ContactModel>& model, ContactKind kind) {
+  if (!model)
+    throw InputError(std::string("no contact model set for ") + to_string(kind) +
+                     " contacts, but such contacts exist: call World::set_contact_model");
+  return *model;
+}
+
+void gather(const PairContacts& c, const std::vector<std::int32_t>& offsets, const std::vector<std::int32_t>& entries,
+            std::size_t i, Vec3& force, Vec3& torque) {
+  for (std::int32_t e = offsets[i]; e < offsets[i + 1]; ++e) {
+    const auto entry = static_cast<std::size_t>(entries[static_cast<std::size_t>(e)]);
+    const std::size_t k = entry >> 1;
+    if (entry & 1U) {
+      force += c.force[k];
+      torque += c.torque_second[k];
+    } else {
+      force -= c.force[k];
+      torque += c.torque_first[k];
+    }
+  }
+}
+
+}  // namespace
+
+void World::compute_forces() {
+  KernelContext ctx;
+  ctx.particles = &particles_;
+  ctx.walls = &walls_;
+  ctx.dt = dt_;
+  ctx.threads = threads_;
+
+  OverlapMonitor worst_bb, worst_bp, worst_wall;
+  if (ball_ball_.size() > 0) model_for(models_[0], ContactKind::BallBall).compute(ball_ball_, ctx, worst_bb);
+  if (ball_pebble_.size() > 0) model_for(models_[2], ContactKind::BallPebble).compute(ball_pebble_, ctx, worst_bp);
+  if (wall_contacts_.size() > 0) model_for(models_[1], ContactKind::BallFacet).compute(wall_contacts_, ctx, worst_wall);
+
+  ParticleStore& p = particles_;
+  const auto n = static_cast<std::int64_t>(p.size());
+#pragma omp parallel for schedule(static) num_threads(threads_for(n, threads_))
+  for (std::int64_t s = 0; s < n; ++s) {
+    const auto i = static_cast<std::size_t>(s);
+    Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
+    gather(ball_ball_, bb_offsets_, bb_entries_, i, force, torque);
+    gather(ball_pebble_, bp_offsets_, bp_entries_, i, force, torque);
+    p.f[i] = force;
+    p.t[i] = torque;
+  }
+
+  for (auto& w : walls_) {
+    w.force.setZero();
+    w.moment.setZero();
+    w.contact_count = 0;
+    w.stiffness_sum = 0.0;
+  }
+  const WallContacts& wc = wall_contacts_;
+  for (std::size_t k = 0; k < wc.size(); ++k) {
+    if (wc.normal_stiffness[k] == 0.0) continue;
+    const auto b = static_cast<std::size_t>(wc.ball[k]);
+    FacetWall& w = walls_[static_cast<std::size_t>(wc.wall[k])];
+    p.f[b] -= wc.force[k];
+    p.t[b] += wc.torque_ball[k];
+    w.force += wc.force[k];
+    w.moment += (wc.point[k] - w.reference_point).cross(wc.force[k]) + wc.moment[k];
+    ++w.contact_count;
+    w.stiffness_sum += wc.normal_stiffness[k];
+  }
+
+  // Stability: the worst overlap of the step, over all contact types.
+  const OverlapMonitor* worst = &worst_bb;
+  ContactKind kind = ContactKind::BallBall;
+  if (worst_bp.ratio > worst->ratio) worst = &worst_bp, kind = ContactKind::BallPebble;
+  if (worst_wall.ratio > worst->ratio) worst = &worst_wall, kind = ContactKind::BallFacet;
+  check_stability(*worst, kind);
+}
+
+}  // namespace dem

@@ -1,0 +1,172 @@
+// Time integration (leapfrog: v(t+dt/2) = v(t-dt/2) + a(t) dt, x(t+dt) = x(t) + v(t+dt/2) dt) with
+// PFC's local non-viscous damping, rigid clumps, moving walls, and the checks that stop a run
+// which has gone unstable before it produces garbage.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include <dem/core/errors.hpp>
+#include <dem/core/world.hpp>
+
+namespace dem {
+
+namespace {
+
+/// Local damping (MODEL.md 3.1): F_i (1 - alpha sign(F_i V_i)) for each degree of freedom.
+inline Vec3 damped(const Vec3& force, const Vec3& velocity, double alpha) {
+  Vec3 out;
+  for (int a = 0; a < 3; ++a) {
+    const double fv = force[a] * velocity[a];
+    out[a] = force[a] * (1.0 - alpha * ((fv > 0.0) - (fv < 0.0)));
+  }
+  return out;
+}
+
+inline void masked_add(Vec3& velocity, const Vec3& increment, std::uint8_t fixed, int shift) {
+  for (int a = 0; a < 3; ++a)
+    if (!(fixed & (1U << (a + shift)))) velocity[a] += increment[a];
+}
+
+}  // namespace
+
+void World::integrate() {
+  ParticleStore& p = particles_;
+  const double alpha = settings_.local_damping;
+  const Vec3 g = settings_.gravity;
+  const double dt = dt_;
+  const auto n = static_cast<std::int64_t>(p.size());
+  double travel_sq = max_travel_sq_;
+  std::int64_t bad = std::numeric_limits<std::int64_t>::max();
+  const double step_ratio_sq = settings_.max_step_travel_ratio * settings_.max_step_travel_ratio;
+
+#pragma omp parallel for schedule(static) num_threads(threads_for(n, threads_)) reduction(max : travel_sq) reduction(min : bad)
+  for (std::int64_t s = 0; s < n; ++s) {
+    const auto i = static_cast<std::size_t>(s);
+    if (p.clump[i] >= 0) continue;
+    const std::uint8_t fixed = p.fixed[i];
+    const Vec3 force = damped(p.f[i] + g / p.inv_mass[i], p.v[i], alpha);
+    const Vec3 torque = damped(p.t[i], p.w[i], alpha);
+    if (fixed == 0) {
+      p.v[i] += force * (p.inv_mass[i] * dt);
+      p.w[i] += torque * (p.inv_inertia[i] * dt);
+    } else {
+      masked_add(p.v[i], force * (p.inv_mass[i] * dt), fixed, 0);
+      masked_add(p.w[i], torque * (p.inv_inertia[i] * dt), fixed, 3);
+    }
+    const Vec3 move = p.v[i] * dt;
+    p.x[i] += move;
+    travel_sq = std::max(travel_sq, (p.x[i] - x_at_rebuild_[i]).squaredNorm());
+    const double r = p.radius[i];
+    if (!(move.squaredNorm() <= step_ratio_sq * r * r) || !p.w[i].allFinite()) bad = std::min(bad, s);
+  }
+  max_travel_sq_ = travel_sq;
+  if (bad != std::numeric_limits<std::int64_t>::max()) {
+    const auto i = static_cast<std::size_t>(bad);
+    std::ostringstream what;
+    what.precision(4);
+    if (!p.x[i].allFinite() || !p.v[i].allFinite() || !p.w[i].allFinite())
+      what << "its position or velocity became NaN or infinite";
+    else
+      what << "it moved " << p.v[i].norm() * dt / p.radius[i] << " radii in one step (limit "
+           << settings_.max_step_travel_ratio << ", speed " << p.v[i].norm() << " m/s)";
+    fail(what.str(), i);
+  }
+
+  // Clumps: rigid bodies driven by the forces on their pebbles (MODEL.md 4).
+  for (Clump& c : clumps_) {
+    Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
+    for (ParticleId pid : c.pebbles) {
+      const std::size_t i = p.index_of(pid);
+      force += p.f[i];
+      torque += (p.x[i] - c.x).cross(p.f[i]) + p.t[i];
+    }
+    c.force = force;
+    c.torque = torque;
+    const Vec3 total_force = damped(force + c.mass * g + c.applied_force, c.v, alpha);
+    masked_add(c.v, total_force * (dt / c.mass), c.fixed, 0);
+    if ((c.fixed & dof_rotation) != dof_rotation) {
+      const Mat3 inertia = c.inertia_world();
+      const Vec3 total_torque = damped(torque + c.applied_torque, c.w, alpha) - c.w.cross(inertia * c.w);
+      masked_add(c.w, inertia.ldlt().solve(total_torque) * dt, c.fixed, 3);
+      const double angle = c.w.norm() * dt;
+      if (angle > 0.0) c.orientation = (Quat(Eigen::AngleAxisd(angle, c.w.normalized())) * c.orientation).normalized();
+    }
+    c.x += c.v * dt;
+    c.displacement += c.v * dt;
+    if (!c.x.allFinite() || !c.v.allFinite() || !c.w.allFinite())
+      fail("its clump became NaN or infinite", p.index_of(c.pebbles.front()));
+  }
+  if (!clumps_.empty()) update_pebbles();
+
+  for (std::size_t w = 0; w < walls_.size(); ++w) {
+    FacetWall& wall = walls_[w];
+    if (wall.velocity.isZero(0.0)) continue;
+    const Vec3 move = wall.velocity * dt;
+    for (Vec3& v : wall.mesh.vertices) v += move;
+    wall.reference_point += move;
+    wall.displacement += move;
+    if (w < wall_disp_at_rebuild_.size())
+      max_wall_travel_ = std::max(max_wall_travel_, (wall.displacement - wall_disp_at_rebuild_[w]).norm());
+    else
+      need_rebuild_ = true;
+  }
+}
+
+void World::update_pebbles() {
+  ParticleStore& p = particles_;
+  double travel_sq = max_travel_sq_;
+  for (const Clump& c : clumps_) {
+    const Mat3 r = c.orientation.toRotationMatrix();
+    for (std::size_t k = 0; k < c.pebbles.size(); ++k) {
+      const std::size_t i = p.index_of(c.pebbles[k]);
+      const Vec3 arm = r * c.pebble_offsets[k];
+      p.x[i] = c.x + arm;
+      p.v[i] = c.v + c.w.cross(arm);
+      p.w[i] = c.w;
+      if (i < x_at_rebuild_.size()) travel_sq = std::max(travel_sq, (p.x[i] - x_at_rebuild_[i]).squaredNorm());
+    }
+  }
+  max_travel_sq_ = travel_sq;
+}
+
+void World::check_stability(const OverlapMonitor& worst, ContactKind kind) {
+  if (worst.ratio <= settings_.max_overlap_ratio) return;
+  const auto k = static_cast<std::size_t>(worst.contact);
+  std::ostringstream what;
+  what.precision(4);
+  std::size_t ball = 0;
+  if (kind == ContactKind::BallFacet) {
+    ball = static_cast<std::size_t>(wall_contacts_.ball[k]);
+    what << "it overlaps wall '" << walls_[static_cast<std::size_t>(wall_contacts_.wall[k])].name << "' by "
+         << worst.ratio << " of its radius";
+  } else {
+    const PairContacts& c = kind == ContactKind::BallBall ? ball_ball_ : ball_pebble_;
+    ball = static_cast<std::size_t>(c.first[k]);
+    what << "it overlaps " << (kind == ContactKind::BallBall ? "ball" : "pebble") << " id "
+         << particles_.id[static_cast<std::size_t>(c.second[k])] << " by " << worst.ratio
+         << " of the smaller radius";
+  }
+  what << " (limit " << settings_.max_overlap_ratio << ")";
+  fail(what.str(), ball);
+}
+
+void World::fail(const std::string& what, std::size_t i) const {
+  std::ostringstream msg;
+  msg.precision(6);
+  const Vec3& x = particles_.x[i];
+  msg << "simulation unstable at step " << steps_ << " (t = " << time_ << " s): ball id " << particles_.id[i]
+      << " at (" << x.x() << ", " << x.y() << ", " << x.z() << ") m, radius " << particles_.radius[i] << " m: " << what
+      << ". Likely cause: the time step " << dt_ << " s is too large for the contact stiffness and mass";
+  double critical = std::numeric_limits<double>::quiet_NaN();
+  try {
+    critical = critical_time_step();
+  } catch (const std::exception&) {
+  }
+  if (std::isfinite(critical)) msg << " (stable estimate " << critical << " s)";
+  msg << ", or the stiffness is too low for the applied load (overlaps grow without bound). "
+         "Reduce time_step or time_step_safety, or raise the effective modulus.";
+  throw InstabilityError(msg.str());
+}
+
+}  // namespace dem

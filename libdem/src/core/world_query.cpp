@@ -1,0 +1,151 @@
+// Read-only views of a World: contacts, energies, the critical time step.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <dem/core/errors.hpp>
+#include <dem/core/world.hpp>
+
+namespace dem {
+
+const PairContacts& World::pair_contacts(ContactKind kind) const {
+  require(kind != ContactKind::BallFacet, "pair_contacts kind", to_string(kind), "ball-ball or ball-pebble");
+  return kind == ContactKind::BallBall ? ball_ball_ : ball_pebble_;
+}
+
+void World::for_each_contact(const std::function<void(const ContactView&)>& visit) const {
+  const ParticleStore& p = particles_;
+  for (const PairContacts* c : {&ball_ball_, &ball_pebble_}) {
+    for (std::size_t k = 0; k < c->size() && k < c->normal_force.size(); ++k) {
+      if (c->normal_force[k] <= 0.0) continue;
+      const auto i = static_cast<std::size_t>(c->first[k]);
+      const auto j = static_cast<std::size_t>(c->second[k]);
+      const Vec3 d = p.x[j] - p.x[i];
+      const double dist = d.norm();
+      ContactView v{c->kind, i, static_cast<std::int64_t>(j), d / dist, Vec3::Zero(), c->force[k], c->normal_force[k]};
+      const double overlap = p.radius[i] + p.radius[j] - dist;
+      v.point = p.x[i] + (p.radius[i] - 0.5 * overlap) * v.normal;
+      visit(v);
+    }
+  }
+  const WallContacts& wc = wall_contacts_;
+  for (std::size_t k = 0; k < wc.size() && k < wc.normal_force.size(); ++k) {
+    if (wc.normal_force[k] <= 0.0) continue;
+    const auto i = static_cast<std::size_t>(wc.ball[k]);
+    const Vec3 arm = wc.point[k] - p.x[i];
+    visit(ContactView{ContactKind::BallFacet, i, wc.wall[k], arm.normalized(), wc.point[k], wc.force[k],
+                      wc.normal_force[k]});
+  }
+}
+
+std::size_t World::contact_count(ContactKind kind) const {
+  const std::vector<double>& forces = kind == ContactKind::BallFacet ? wall_contacts_.normal_force
+                                                                     : pair_contacts(kind).normal_force;
+  return static_cast<std::size_t>(std::count_if(forces.begin(), forces.end(), [](double f) { return f > 0.0; }));
+}
+
+double World::kinetic_energy() const {
+  const ParticleStore& p = particles_;
+  double energy = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (p.is_pebble(i)) continue;
+    energy += 0.5 * p.mass[i] * p.v[i].squaredNorm() + 0.5 / p.inv_inertia[i] * p.w[i].squaredNorm();
+  }
+  for (const Clump& c : clumps_) energy += 0.5 * c.mass * c.v.squaredNorm() + 0.5 * c.w.dot(c.inertia_world() * c.w);
+  return energy;
+}
+
+double World::unbalanced_force_ratio() const {
+  const ParticleStore& p = particles_;
+  double unbalanced = 0.0;
+  std::size_t balls = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (p.is_pebble(i) || p.fixed[i] == dof_all) continue;
+    unbalanced += (p.f[i] + settings_.gravity * p.mass[i]).norm();
+    ++balls;
+  }
+  double contact = 0.0;
+  std::size_t contacts = 0;
+  for_each_contact([&](const ContactView& c) {
+    contact += c.normal_force;
+    ++contacts;
+  });
+  if (balls == 0 || contacts == 0 || contact == 0.0) return std::numeric_limits<double>::infinity();
+  return (unbalanced / static_cast<double>(balls)) / (contact / static_cast<double>(contacts));
+}
+
+double World::critical_time_step() const {
+  const ParticleStore& p = particles_;
+  const std::size_t n = p.size();
+  std::vector<double> k_trans(n, 0.0), k_rot(n, 0.0);
+  std::vector<double> clump_trans(clumps_.size(), 0.0), clump_rot(clumps_.size(), 0.0);
+
+  auto add = [&](std::size_t i, const ContactStiffness& s, double arm) {
+    if (p.is_pebble(i)) {
+      const auto c = static_cast<std::size_t>(p.clump[i]);
+      const double lever = (p.x[i] - clumps_[c].x).norm() + arm;
+      clump_trans[c] += s.normal + s.shear;
+      clump_rot[c] += s.shear * lever * lever + s.rolling;
+    } else {
+      k_trans[i] += s.normal + s.shear;
+      k_rot[i] += s.shear * arm * arm + s.rolling;
+    }
+  };
+  auto kinematics = [](ContactKind kind, double r1, double r2) {
+    ContactKinematics k{};
+    k.kind = kind;
+    k.radius_1 = r1;
+    k.radius_2 = r2;
+    k.effective_radius = r2 > 0.0 ? r1 * r2 / (r1 + r2) : r1;
+    k.normal = Vec3::UnitZ();
+    return k;
+  };
+  for (const PairContacts* c : {&ball_ball_, &ball_pebble_}) {
+    const ContactModel* model = contact_model(c->kind);
+    if (model == nullptr) continue;
+    for (std::size_t k = 0; k < c->size() && k < c->normal_force.size(); ++k) {
+      if (c->normal_force[k] <= 0.0) continue;
+      const auto i = static_cast<std::size_t>(c->first[k]);
+      const auto j = static_cast<std::size_t>(c->second[k]);
+      const ContactStiffness s = model->stiffness(kinematics(c->kind, p.radius[i], p.radius[j]));
+      add(i, s, p.radius[i]);
+      add(j, s, p.radius[j]);
+    }
+  }
+  if (const ContactModel* model = contact_model(ContactKind::BallFacet)) {
+    for (std::size_t k = 0; k < wall_contacts_.size() && k < wall_contacts_.normal_force.size(); ++k) {
+      if (wall_contacts_.normal_force[k] <= 0.0) continue;
+      const auto i = static_cast<std::size_t>(wall_contacts_.ball[k]);
+      add(i, model->stiffness(kinematics(ContactKind::BallFacet, p.radius[i], 0.0)), p.radius[i]);
+    }
+  }
+
+  double dt = std::numeric_limits<double>::infinity();
+  double smallest = std::numeric_limits<double>::infinity();
+  std::size_t smallest_index = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (p.is_pebble(i)) continue;
+    if (k_trans[i] > 0.0) dt = std::min(dt, std::sqrt(p.mass[i] / k_trans[i]));
+    if (k_rot[i] > 0.0) dt = std::min(dt, std::sqrt(1.0 / (p.inv_inertia[i] * k_rot[i])));
+    if (p.radius[i] < smallest) smallest = p.radius[i], smallest_index = i;
+  }
+  for (std::size_t c = 0; c < clumps_.size(); ++c) {
+    if (clump_trans[c] > 0.0) dt = std::min(dt, std::sqrt(clumps_[c].mass / clump_trans[c]));
+    const double inertia = clumps_[c].inertia_body.diagonal().minCoeff();
+    if (clump_rot[c] > 0.0) dt = std::min(dt, std::sqrt(inertia / clump_rot[c]));
+  }
+  // A ball with a single contact, so that a loose packing (no contacts yet) gets a time step too.
+  if (std::isfinite(smallest)) {
+    const double m = p.mass[smallest_index];
+    for (ContactKind kind : {ContactKind::BallBall, ContactKind::BallFacet}) {
+      const ContactModel* model = contact_model(kind);
+      if (model == nullptr) continue;
+      const ContactStiffness s =
+          model->stiffness(kinematics(kind, smallest, kind == ContactKind::BallBall ? smallest : 0.0));
+      dt = std::min(dt, std::sqrt(m / (s.normal + s.shear)));
+    }
+  }
+  return dt;
+}
+
+}  // namespace dem

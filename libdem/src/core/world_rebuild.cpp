@@ -1,0 +1,195 @@
+// The broad phase of the World: Verlet lists with a skin, rebuilt only when something has moved
+// far enough to matter, with contact history carried over by stable particle ids, and the
+// per-particle incidence lists for the fixed-order force gather.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <dem/core/errors.hpp>
+#include <dem/core/world.hpp>
+#include <dem/geometry/triangle.hpp>
+
+namespace dem {
+
+namespace {
+
+using Key = std::uint64_t;
+
+Key pair_key(ParticleId a, ParticleId b) {
+  return (static_cast<Key>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
+}
+
+/// Sorted (key, old index) of the contacts touching in the last step.
+std::vector<std::pair<Key, std::int64_t>> touching_keys(const PairContacts& c, const ParticleStore& p) {
+  std::vector<std::pair<Key, std::int64_t>> keys;
+  for (std::size_t k = 0; k < c.normal_force.size() && k < c.size(); ++k)
+    if (c.normal_force[k] > 0.0)
+      keys.emplace_back(pair_key(p.id[static_cast<std::size_t>(c.first[k])], p.id[static_cast<std::size_t>(c.second[k])]),
+                        static_cast<std::int64_t>(k));
+  std::sort(keys.begin(), keys.end());
+  return keys;
+}
+
+std::int64_t lookup(const std::vector<std::pair<Key, std::int64_t>>& keys, Key key) {
+  const auto it = std::lower_bound(keys.begin(), keys.end(), std::make_pair(key, std::int64_t{-1}));
+  return (it != keys.end() && it->first == key) ? it->second : -1;
+}
+
+/// Moves the history and last normal forces of `old` onto the new candidate list.
+template <class Contacts>
+void carry_history(const ContactModel* model, Contacts& fresh, const Contacts& old,
+                   const std::vector<std::int64_t>& source_of) {
+  fresh.normal_force.assign(source_of.size(), 0.0);
+  for (std::size_t k = 0; k < source_of.size(); ++k)
+    if (source_of[k] >= 0) fresh.normal_force[k] = old.normal_force[static_cast<std::size_t>(source_of[k])];
+  if (model != nullptr) model->remap_states(old.state, source_of, fresh.state);
+}
+
+/// CSR incidence: for each particle, entries (contact * 2 + side) in contact order.
+void build_incidence(const PairContacts& c, std::size_t particles, std::vector<std::int32_t>& offsets,
+                     std::vector<std::int32_t>& entries) {
+  offsets.assign(particles + 1, 0);
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    ++offsets[static_cast<std::size_t>(c.first[k]) + 1];
+    ++offsets[static_cast<std::size_t>(c.second[k]) + 1];
+  }
+  for (std::size_t i = 0; i < particles; ++i) offsets[i + 1] += offsets[i];
+  entries.resize(2 * c.size());
+  std::vector<std::int32_t> fill(offsets.begin(), offsets.end() - 1);
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    entries[static_cast<std::size_t>(fill[static_cast<std::size_t>(c.first[k])]++)] = static_cast<std::int32_t>(2 * k);
+    entries[static_cast<std::size_t>(fill[static_cast<std::size_t>(c.second[k])]++)] = static_cast<std::int32_t>(2 * k + 1);
+  }
+}
+
+}  // namespace
+
+bool World::needs_rebuild() const {
+  const double skin = resolved_skin();
+  const double travel = std::sqrt(max_travel_sq_);
+  return 2.0 * travel > skin || travel + max_wall_travel_ > skin;
+}
+
+void World::rebuild_now(bool resort) { rebuild(resort); }
+
+void World::rebuild(bool resort) {
+  ParticleStore& p = particles_;
+  const double skin = resolved_skin();
+
+  // History of the last step, keyed by stable ids (storage indices change when re-sorting).
+  const auto old_bb_keys = touching_keys(ball_ball_, p);
+  const auto old_bp_keys = touching_keys(ball_pebble_, p);
+  std::vector<std::pair<Key, std::int64_t>> old_wall_keys;
+  for (std::size_t k = 0; k < wall_contacts_.size() && k < wall_contacts_.normal_force.size(); ++k)
+    if (wall_contacts_.normal_force[k] > 0.0)
+      old_wall_keys.emplace_back(pair_key(p.id[static_cast<std::size_t>(wall_contacts_.ball[k])], wall_contacts_.wall[k]),
+                                 static_cast<std::int64_t>(k));
+  std::sort(old_wall_keys.begin(), old_wall_keys.end());
+
+  if (resort && p.size() > 1) {
+    double max_radius = 0.0;
+    for (double r : p.radius) max_radius = std::max(max_radius, r);
+    grid_.build(p.x, 2.0 * max_radius + skin);
+    p.permute(grid_.cell_order());
+  }
+
+  // Candidate pairs, split by contact type; piece 1 is always a ball.
+  std::vector<std::int32_t> first, second;
+  find_pairs(p.x, p.radius, skin, threads_, grid_, first, second);
+  PairContacts bb, bp;
+  bb.kind = ContactKind::BallBall;
+  bp.kind = ContactKind::BallPebble;
+  std::vector<std::int64_t> bb_source, bp_source;
+  for (std::size_t k = 0; k < first.size(); ++k) {
+    std::int32_t a = first[k], b = second[k];
+    const bool a_pebble = p.is_pebble(static_cast<std::size_t>(a));
+    const bool b_pebble = p.is_pebble(static_cast<std::size_t>(b));
+    if (!a_pebble && !b_pebble) {
+      // Orient by stable id, so that re-sorting never flips a contact (its history is directional).
+      if (p.id[static_cast<std::size_t>(a)] > p.id[static_cast<std::size_t>(b)]) std::swap(a, b);
+      bb.first.push_back(a);
+      bb.second.push_back(b);
+      bb_source.push_back(lookup(old_bb_keys, pair_key(p.id[static_cast<std::size_t>(a)], p.id[static_cast<std::size_t>(b)])));
+      continue;
+    }
+    if (a_pebble && b_pebble) {
+      if (!settings_.pebble_pebble_contacts || p.clump[static_cast<std::size_t>(a)] == p.clump[static_cast<std::size_t>(b)])
+        continue;
+      if (p.id[static_cast<std::size_t>(a)] > p.id[static_cast<std::size_t>(b)]) std::swap(a, b);
+    } else if (a_pebble) {
+      std::swap(a, b);
+    }
+    bp.first.push_back(a);
+    bp.second.push_back(b);
+    bp_source.push_back(lookup(old_bp_keys, pair_key(p.id[static_cast<std::size_t>(a)], p.id[static_cast<std::size_t>(b)])));
+  }
+  carry_history(contact_model(ContactKind::BallBall), bb, ball_ball_, bb_source);
+  carry_history(contact_model(ContactKind::BallPebble), bp, ball_pebble_, bp_source);
+  ball_ball_ = std::move(bb);
+  ball_pebble_ = std::move(bp);
+  build_incidence(ball_ball_, p.size(), bb_offsets_, bb_entries_);
+  build_incidence(ball_pebble_, p.size(), bp_offsets_, bp_entries_);
+
+  // Ball-facet candidates: balls within (radius + skin) of a triangle, grouped per (ball, wall).
+  struct Candidate {
+    std::int32_t ball, wall, triangle;
+  };
+  std::vector<Candidate> found;
+  double max_ball_radius = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (!p.is_pebble(i)) max_ball_radius = std::max(max_ball_radius, p.radius[i]);
+  for (std::size_t w = 0; w < walls_.size(); ++w) {
+    const auto& mesh = walls_[w].mesh;
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+      const auto& tri = mesh.triangles[t];
+      const Vec3& a = mesh.vertices[static_cast<std::size_t>(tri[0])];
+      const Vec3& b = mesh.vertices[static_cast<std::size_t>(tri[1])];
+      const Vec3& c = mesh.vertices[static_cast<std::size_t>(tri[2])];
+      const Vec3 pad = Vec3::Constant(max_ball_radius + skin);
+      const auto lo = grid_.cell_of(a.cwiseMin(b).cwiseMin(c) - pad);
+      const auto hi = grid_.cell_of(a.cwiseMax(b).cwiseMax(c) + pad);
+      for (int iz = lo[2]; iz <= hi[2]; ++iz)
+        for (int iy = lo[1]; iy <= hi[1]; ++iy)
+          for (int ix = lo[0]; ix <= hi[0]; ++ix) {
+            const std::int64_t cell = grid_.linear(ix, iy, iz);
+            for (const std::int32_t* it = grid_.begin(cell); it != grid_.end(cell); ++it) {
+              const auto i = static_cast<std::size_t>(*it);
+              if (p.is_pebble(i)) continue;
+              const double reach = p.radius[i] + skin;
+              const auto cp = geometry::closest_point_on_triangle(p.x[i], a, b, c);
+              if ((cp.point - p.x[i]).squaredNorm() < reach * reach)
+                found.push_back({*it, static_cast<std::int32_t>(w), static_cast<std::int32_t>(t)});
+            }
+          }
+    }
+  }
+  std::sort(found.begin(), found.end(), [](const Candidate& l, const Candidate& r) {
+    return std::tie(l.ball, l.wall, l.triangle) < std::tie(r.ball, r.wall, r.triangle);
+  });
+  WallContacts wc;
+  std::vector<std::int64_t> wall_source;
+  for (std::size_t k = 0; k < found.size(); ++k) {
+    if (k == 0 || found[k].ball != found[k - 1].ball || found[k].wall != found[k - 1].wall) {
+      if (!wc.ball.empty()) wc.triangle_end.push_back(static_cast<std::int32_t>(wc.triangles.size()));
+      wc.ball.push_back(found[k].ball);
+      wc.wall.push_back(found[k].wall);
+      wc.triangle_begin.push_back(static_cast<std::int32_t>(wc.triangles.size()));
+      wall_source.push_back(lookup(old_wall_keys, pair_key(p.id[static_cast<std::size_t>(found[k].ball)], found[k].wall)));
+    }
+    wc.triangles.push_back(found[k].triangle);
+  }
+  if (!wc.ball.empty()) wc.triangle_end.push_back(static_cast<std::int32_t>(wc.triangles.size()));
+  carry_history(contact_model(ContactKind::BallFacet), wc, wall_contacts_, wall_source);
+  wall_contacts_ = std::move(wc);
+
+  x_at_rebuild_ = p.x;
+  max_travel_sq_ = 0.0;
+  max_wall_travel_ = 0.0;
+  wall_disp_at_rebuild_.clear();
+  for (const auto& w : walls_) wall_disp_at_rebuild_.push_back(w.displacement);
+  need_rebuild_ = false;
+  ++rebuilds_;
+  if (settings_.time_step <= 0.0 && dt_ > 0.0) update_time_step();
+}
+
+}  // namespace dem

@@ -1,0 +1,108 @@
+#include <dem/grid/cell_grid.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+#include <omp.h>
+
+#include <dem/contact/contact_model.hpp>
+
+namespace dem {
+
+void CellGrid::build(const std::vector<Vec3>& points, double min_cell_size, double padding) {
+  Vec3 lo = Vec3::Constant(0.0), hi = Vec3::Constant(0.0);
+  if (!points.empty()) {
+    lo = hi = points[0];
+    for (const Vec3& p : points) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+  }
+  lo.array() -= padding;
+  hi.array() += padding;
+  const Vec3 extent = (hi - lo).cwiseMax(1e-300);
+  // A runaway particle must not blow up memory: keep the cell count within a few per point.
+  const double max_cells = 8.0 * static_cast<double>(std::max<std::size_t>(points.size(), 64));
+  cell_ = min_cell_size;
+  while ((std::floor(extent.x() / cell_) + 1) * (std::floor(extent.y() / cell_) + 1) *
+             (std::floor(extent.z() / cell_) + 1) > max_cells)
+    cell_ *= 1.25;
+  origin_ = lo;
+  for (int a = 0; a < 3; ++a) dims_[a] = static_cast<int>(std::floor(extent[a] / cell_)) + 1;
+
+  const std::int64_t cells = static_cast<std::int64_t>(dims_[0]) * dims_[1] * dims_[2];
+  start_.assign(static_cast<std::size_t>(cells) + 1, 0);
+  std::vector<std::int64_t> cell_index(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const auto c = cell_of(points[i]);
+    cell_index[i] = linear(c[0], c[1], c[2]);
+    ++start_[static_cast<std::size_t>(cell_index[i]) + 1];
+  }
+  for (std::int64_t c = 0; c < cells; ++c) start_[static_cast<std::size_t>(c) + 1] += start_[static_cast<std::size_t>(c)];
+  order_.resize(points.size());
+  std::vector<std::int32_t> fill(start_.begin(), start_.end() - 1);
+  for (std::size_t i = 0; i < points.size(); ++i)
+    order_[static_cast<std::size_t>(fill[static_cast<std::size_t>(cell_index[i])]++)] = static_cast<std::int32_t>(i);
+}
+
+std::array<int, 3> CellGrid::cell_of(const Vec3& point) const {
+  std::array<int, 3> c{};
+  for (int a = 0; a < 3; ++a) {
+    const double s = std::floor((point[a] - origin_[a]) / cell_);
+    c[a] = static_cast<int>(std::clamp(s, 0.0, static_cast<double>(dims_[a] - 1)));
+  }
+  return c;
+}
+
+void find_pairs(const std::vector<Vec3>& x, const std::vector<double>& radius, double skin, int threads,
+                CellGrid& grid, std::vector<std::int32_t>& first, std::vector<std::int32_t>& second) {
+  const double max_radius = radius.empty() ? 0.0 : *std::max_element(radius.begin(), radius.end());
+  grid.build(x, 2.0 * max_radius + skin);
+  const auto n = static_cast<std::int64_t>(x.size());
+  const int nthreads = threads_for(n, std::max(1, threads));
+  std::vector<std::vector<std::int32_t>> local_first(static_cast<std::size_t>(nthreads)),
+      local_second(static_cast<std::size_t>(nthreads));
+  const auto dims = grid.dims();
+#pragma omp parallel num_threads(nthreads)
+  {
+    const auto me = static_cast<std::size_t>(omp_get_thread_num());
+    auto& out_first = local_first[me];
+    auto& out_second = local_second[me];
+#pragma omp for schedule(static)
+    for (std::int64_t i = 0; i < n; ++i) {
+      const Vec3 xi = x[static_cast<std::size_t>(i)];
+      const double ri = radius[static_cast<std::size_t>(i)] + skin;
+      const auto c = grid.cell_of(xi);
+      for (int dz = -1; dz <= 1; ++dz) {
+        const int iz = c[2] + dz;
+        if (iz < 0 || iz >= dims[2]) continue;
+        for (int dy = -1; dy <= 1; ++dy) {
+          const int iy = c[1] + dy;
+          if (iy < 0 || iy >= dims[1]) continue;
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int ix = c[0] + dx;
+            if (ix < 0 || ix >= dims[0]) continue;
+            const std::int64_t cell = grid.linear(ix, iy, iz);
+            for (const std::int32_t* it = grid.begin(cell); it != grid.end(cell); ++it) {
+              const std::int32_t j = *it;
+              if (j <= i) continue;
+              const double reach = ri + radius[static_cast<std::size_t>(j)];
+              if ((x[static_cast<std::size_t>(j)] - xi).squaredNorm() < reach * reach) {
+                out_first.push_back(static_cast<std::int32_t>(i));
+                out_second.push_back(j);
+              }
+            }
+          }
+        }
+      }
+    }
+  }
+  first.clear();
+  second.clear();
+  for (int t = 0; t < nthreads; ++t) {
+    first.insert(first.end(), local_first[static_cast<std::size_t>(t)].begin(), local_first[static_cast<std::size_t>(t)].end());
+    second.insert(second.end(), local_second[static_cast<std::size_t>(t)].begin(), local_second[static_cast<std::size_t>(t)].end());
+  }
+}
+
+}  // namespace dem

@@ -1,0 +1,65 @@
+// Small scenes shared by the physics tests. Values follow MODEL.md section 11: balls of radius
+// 0.5 mm, density 2650 kg/m^3, E* = 5.3e7 Pa (ball-ball) and 2e7 Pa (ball-facet).
+#pragma once
+
+#include <random>
+
+#include <dem/dem.hpp>
+
+namespace dem::testing {
+
+inline constexpr double radius = 0.5e-3;      // m
+inline constexpr double density = 2650.0;     // kg/m^3
+inline constexpr double modulus_ball = 5.3e7;  // Pa
+inline constexpr double modulus_wall = 2.0e7;  // Pa
+
+inline double ball_mass(double r = radius) { return density * 4.0 / 3.0 * pi * r * r * r; }
+
+/// World without damping or gravity, fixed time step.
+inline WorldSettings dynamic_settings(double dt) {
+  WorldSettings s;
+  s.time_step = dt;
+  s.local_damping = 0.0;
+  return s;
+}
+
+inline BallSpec ball_at(const Vec3& x, const Vec3& v = Vec3::Zero(), double r = radius) {
+  BallSpec b;
+  b.position = x;
+  b.radius = r;
+  b.density = density;
+  b.velocity = v;
+  return b;
+}
+
+/// Horizontal square floor (top face at z) as a facet wall, pushed downwards by the balls.
+inline FacetWall floor_wall(double z, double half_size) {
+  return make_facet_wall("floor",
+                         geometry::make_rectangle(Vec3(0, 0, z), Vec3(half_size, 0, 0), Vec3(0, half_size, 0)),
+                         -Vec3::UnitZ());
+}
+
+/// Random polydisperse positions in a box, for broad-phase and conservation tests.
+inline std::vector<BallSpec> random_balls(std::size_t n, double box, double r_min, double r_max, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<BallSpec> balls;
+  for (std::size_t i = 0; i < n; ++i)
+    balls.push_back(ball_at(Vec3(u(rng), u(rng), u(rng)) * box, Vec3::Zero(), r_min + (r_max - r_min) * u(rng)));
+  return balls;
+}
+
+/// Like random_balls, but no two balls overlap (rejection sampling); may return fewer than n.
+inline std::vector<BallSpec> separated_balls(std::size_t n, double box, double r_min, double r_max, unsigned seed) {
+  std::vector<BallSpec> placed;
+  for (const BallSpec& b : random_balls(20 * n, box, r_min, r_max, seed)) {
+    if (placed.size() == n) break;
+    bool clear = true;
+    for (const BallSpec& o : placed)
+      if ((o.position - b.position).norm() < o.radius + b.radius) clear = false;
+    if (clear) placed.push_back(b);
+  }
+  return placed;
+}
+
+}  // namespace dem::testing
