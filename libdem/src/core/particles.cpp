@@ -49,6 +49,16 @@ void ParticleStore::set_radius(std::size_t i, double new_radius) {
   inv_inertia[i] = 1.0 / (0.4 * m * new_radius * new_radius);
 }
 
+void ParticleStore::restore_index() {
+  index_of_id_.assign(id.size(), -1);
+  for (std::size_t k = 0; k < id.size(); ++k) {
+    const ParticleId pid = id[k];
+    require(pid >= 0 && static_cast<std::size_t>(pid) < id.size() && index_of_id_[static_cast<std::size_t>(pid)] < 0,
+            "particle id", pid, "unique and in [0, count)");
+    index_of_id_[static_cast<std::size_t>(pid)] = static_cast<std::int32_t>(k);
+  }
+}
+
 void ParticleStore::permute(const std::vector<std::int32_t>& order) {
   apply_order(x, order);
   apply_order(v, order);

@@ -66,6 +66,9 @@ struct ParticleStore {
   /// Reorders storage so that new position k holds old position order[k].
   void permute(const std::vector<std::int32_t>& order);
 
+  /// Rebuilds the id -> index map from `id` (after the arrays were filled from a checkpoint).
+  void restore_index();
+
   /// Sets the radius of ball i, keeping its density: mass and inertia follow.
   void set_radius(std::size_t i, double new_radius);
 

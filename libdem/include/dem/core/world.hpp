@@ -20,6 +20,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <iosfwd>
 #include <memory>
 #include <string>
 #include <vector>
@@ -111,6 +112,16 @@ class World {
   double kinetic_energy() const;
   /// Mean |unbalanced force| over free balls divided by the mean contact normal force (PFC's ratio).
   double unbalanced_force_ratio() const;
+
+  // --- checkpoints ---------------------------------------------------------------------------
+  /// Writes the complete dynamic state (particles, clumps, walls, contact lists with their law
+  /// history, clock, time step) so that a run resumed from it continues bit for bit. Contact
+  /// models, controllers and callbacks are code, not state: the caller sets them up again.
+  void save_state(std::ostream& out) const;
+  /// Replaces the state with one written by save_state. The contact models must already be set,
+  /// with the same laws as when it was saved (checked by name). Throws InputError on a mismatch
+  /// or a truncated stream.
+  void load_state(std::istream& in);
 
   // --- internals exposed for checkpoints and tests --------------------------------------------
   const PairContacts& pair_contacts(ContactKind kind) const;

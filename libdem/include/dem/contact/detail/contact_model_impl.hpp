@@ -29,10 +29,10 @@ void compute_pairs(const typename Law::Params& params, PairContacts& c, const Ke
   using State = typename Law::State;
   const ParticleStore& p = *ctx.particles;
   const std::int64_t count = static_cast<std::int64_t>(c.size());
-  c.force.resize(c.size());
-  c.torque_first.resize(c.size());
-  c.torque_second.resize(c.size());
-  c.normal_force.resize(c.size());
+  c.force.resize(c.size(), Vec3::Zero());
+  c.torque_first.resize(c.size(), Vec3::Zero());
+  c.torque_second.resize(c.size(), Vec3::Zero());
+  c.normal_force.resize(c.size(), 0.0);
 #pragma omp parallel num_threads(threads_for(count, ctx.threads))
   {
     OverlapMonitor local;
@@ -43,15 +43,19 @@ void compute_pairs(const typename Law::Params& params, PairContacts& c, const Ke
       const Vec3 d = p.x[j] - p.x[i];
       const double reach = p.radius[i] + p.radius[j];
       const double dist_sq = d.squaredNorm();
-      State& state = state_at<State>(c.state, static_cast<std::size_t>(k));
       if (dist_sq >= reach * reach) {
-        state = State{};
-        c.force[k].setZero();
-        c.torque_first[k].setZero();
-        c.torque_second[k].setZero();
-        c.normal_force[k] = 0.0;
+        // Separated: history ends. A pair that was apart already holds a fresh State and zero
+        // forces, so most candidates cost no writes at all.
+        if (c.normal_force[k] != 0.0 || !c.force[k].isZero(0.0)) {
+          state_at<State>(c.state, static_cast<std::size_t>(k)) = State{};
+          c.force[k].setZero();
+          c.torque_first[k].setZero();
+          c.torque_second[k].setZero();
+          c.normal_force[k] = 0.0;
+        }
         continue;
       }
+      State& state = state_at<State>(c.state, static_cast<std::size_t>(k));
       const double dist = std::sqrt(dist_sq);
       ContactKinematics kin;
       kin.normal = d / dist;

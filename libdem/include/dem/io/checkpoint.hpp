@@ -1,0 +1,23 @@
+// Restart files: the World's state plus a text block for the protocol that drives it (stage,
+// targets, output counters), framed with a format version and a checksum and written
+// atomically, so that a crash never leaves a half file and a damaged file is refused.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include <dem/core/world.hpp>
+
+namespace dem::io {
+
+inline constexpr std::uint32_t checkpoint_format_version = 1;
+
+/// Writes `world` and `protocol_state` to `path` (temporary file, fsync, rename).
+void save_checkpoint(const std::filesystem::path& path, const World& world, const std::string& protocol_state);
+
+/// Restores `world` (its contact models must already be set, with the same laws) and returns
+/// the protocol text. Throws InputError naming the file for a missing, truncated or corrupted
+/// file, another format version, or mismatched laws.
+std::string load_checkpoint(const std::filesystem::path& path, World& world);
+
+}  // namespace dem::io

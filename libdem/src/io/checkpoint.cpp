@@ -1,0 +1,84 @@
+#include <dem/io/checkpoint.hpp>
+
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+
+#include <dem/core/errors.hpp>
+#include <dem/io/atomic_file.hpp>
+
+namespace dem::io {
+
+namespace {
+
+constexpr char magic[8] = {'L', 'I', 'B', 'D', 'E', 'M', 'C', 'K'};
+
+/// FNV-1a, 64 bit: detects truncation and bit flips; not a cryptographic guarantee.
+std::uint64_t checksum(const std::string& data) {
+  std::uint64_t h = 1469598103934665603ULL;
+  for (unsigned char c : data) {
+    h ^= c;
+    h *= 1099511628211ULL;
+  }
+  return h;
+}
+
+template <class T>
+void put(std::ostream& out, const T& v) {
+  out.write(reinterpret_cast<const char*>(&v), sizeof(T));
+}
+
+}  // namespace
+
+void save_checkpoint(const std::filesystem::path& path, const World& world, const std::string& protocol_state) {
+  std::ostringstream payload(std::ios::binary);
+  const std::uint64_t text_size = protocol_state.size();
+  put(payload, text_size);
+  payload.write(protocol_state.data(), static_cast<std::streamsize>(text_size));
+  world.save_state(payload);
+  const std::string data = payload.str();
+  write_atomically_binary(path, [&](std::ostream& out) {
+    out.write(magic, sizeof magic);
+    put(out, checkpoint_format_version);
+    put(out, static_cast<std::uint64_t>(data.size()));
+    out.write(data.data(), static_cast<std::streamsize>(data.size()));
+    put(out, checksum(data));
+  });
+}
+
+std::string load_checkpoint(const std::filesystem::path& path, World& world) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError("restart file " + path.string() + ": cannot be opened");
+  const std::string file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t header = sizeof magic + sizeof(std::uint32_t) + sizeof(std::uint64_t);
+  if (file.size() < header + sizeof(std::uint64_t) || file.compare(0, sizeof magic, magic, sizeof magic) != 0)
+    throw InputError("restart file " + path.string() + ": not a libdem restart file");
+  std::uint32_t version = 0;
+  std::uint64_t size = 0, stored = 0;
+  std::memcpy(&version, file.data() + sizeof magic, sizeof version);
+  std::memcpy(&size, file.data() + sizeof magic + sizeof version, sizeof size);
+  if (version != checkpoint_format_version)
+    throw InputError("restart file " + path.string() + ": format version " + std::to_string(version) +
+                     ", this libdem reads version " + std::to_string(checkpoint_format_version));
+  if (file.size() != header + size + sizeof stored)
+    throw InputError("restart file " + path.string() + ": truncated (" + std::to_string(file.size()) + " bytes, expected " +
+                     std::to_string(header + size + sizeof stored) + ")");
+  const std::string data = file.substr(header, size);
+  std::memcpy(&stored, file.data() + header + size, sizeof stored);
+  if (checksum(data) != stored) throw InputError("restart file " + path.string() + ": checksum mismatch (corrupted)");
+  std::istringstream payload(data, std::ios::binary);
+  std::uint64_t text_size = 0;
+  payload.read(reinterpret_cast<char*>(&text_size), sizeof text_size);
+  if (!payload || text_size > data.size()) throw InputError("restart file " + path.string() + ": corrupt header");
+  std::string text(text_size, '\0');
+  payload.read(text.data(), static_cast<std::streamsize>(text_size));
+  try {
+    world.load_state(payload);
+  } catch (const InputError& e) {
+    throw InputError("restart file " + path.string() + ": " + e.what());
+  }
+  return text;
+}
+
+}  // namespace dem::io
