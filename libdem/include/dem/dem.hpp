@@ -2,7 +2,9 @@
 #pragma once
 
 #include <dem/boundary/clump.hpp>
+#include <dem/boundary/clump_ring.hpp>
 #include <dem/boundary/facet_wall.hpp>
+#include <dem/boundary/servo_wall.hpp>
 #include <dem/contact/contact_model.hpp>
 #include <dem/contact/linear_law.hpp>
 #include <dem/core/errors.hpp>
@@ -11,3 +13,5 @@
 #include <dem/core/world.hpp>
 #include <dem/geometry/mesh.hpp>
 #include <dem/geometry/triangle.hpp>
+#include <dem/measure/measurement_sphere.hpp>
+#include <dem/measure/principal_stress.hpp>
