@@ -160,7 +160,7 @@ void World::save_state(std::ostream& out) const {
   write_states(w, c.state);
   w.vec(bb_offsets_), w.vec(bb_entries_), w.vec(bp_offsets_), w.vec(bp_entries_);
   w.vec(x_at_rebuild_), w.vec(wall_disp_at_rebuild_);
-  w.pod(need_rebuild_), w.pod(rebuilds_), w.pod(max_travel_sq_), w.pod(max_wall_travel_);
+  w.pod(need_rebuild_), w.pod(rebuilds_), w.pod(max_travel_sq_), w.pod(max_wall_travel_), w.pod(skin_);
   if (!out) throw std::runtime_error("checkpoint: writing the world state failed");
 }
 
@@ -236,6 +236,7 @@ void World::load_state(std::istream& in) {
   rebuilds_ = r.pod<std::int64_t>();
   max_travel_sq_ = r.pod<double>();
   max_wall_travel_ = r.pod<double>();
+  skin_ = r.pod<double>();
   // Indices must point inside the arrays, or a corrupted file would crash the next step.
   auto check_index = [&](const std::vector<std::int32_t>& v, std::size_t limit, const char* what) {
     for (std::int32_t i : v)

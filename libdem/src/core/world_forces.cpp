@@ -1,6 +1,7 @@
 // Contact forces of one step: each contact type runs its own law-typed loop, writing one force
 // record per contact; then every particle sums its records in a fixed order (its incidence list),
 // so the result is bit-identical for any thread count.
+#include <algorithm>
 #include <cmath>
 
 #include <dem/core/errors.hpp>
@@ -41,21 +42,40 @@ void World::compute_forces() {
   ctx.dt = dt_;
   ctx.threads = threads_;
 
+  ParticleStore& p = particles_;
+  const auto n = static_cast<std::int64_t>(p.size());
+  // One thread: add forces as they are computed. Several: per-contact records, then a per-particle
+  // gather in the same contact order. Both give the same bits.
+  const bool serial = threads_for(static_cast<std::int64_t>(ball_ball_.size()), threads_) == 1;
+  if (!serial && last_step_serial_) {
+    // Serial steps leave the per-contact torque records stale; the gather must not see them.
+    for (PairContacts* c : {&ball_ball_, &ball_pebble_}) {
+      c->torque_first.assign(c->size(), Vec3::Zero());
+      c->torque_second.assign(c->size(), Vec3::Zero());
+    }
+  }
+  last_step_serial_ = serial;
+  if (serial) {
+    std::fill(p.f.begin(), p.f.end(), Vec3::Zero());
+    std::fill(p.t.begin(), p.t.end(), Vec3::Zero());
+    ctx.scatter_force = p.f.data();
+    ctx.scatter_torque = p.t.data();
+  }
   OverlapMonitor worst_bb, worst_bp, worst_wall;
   if (ball_ball_.size() > 0) model_for(models_[0], ContactKind::BallBall).compute(ball_ball_, ctx, worst_bb);
   if (ball_pebble_.size() > 0) model_for(models_[2], ContactKind::BallPebble).compute(ball_pebble_, ctx, worst_bp);
   if (wall_contacts_.size() > 0) model_for(models_[1], ContactKind::BallFacet).compute(wall_contacts_, ctx, worst_wall);
 
-  ParticleStore& p = particles_;
-  const auto n = static_cast<std::int64_t>(p.size());
+  if (!serial) {
 #pragma omp parallel for schedule(static) num_threads(threads_for(n, threads_))
-  for (std::int64_t s = 0; s < n; ++s) {
-    const auto i = static_cast<std::size_t>(s);
-    Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
-    gather(ball_ball_, bb_offsets_, bb_entries_, i, force, torque);
-    gather(ball_pebble_, bp_offsets_, bp_entries_, i, force, torque);
-    p.f[i] = force;
-    p.t[i] = torque;
+    for (std::int64_t s = 0; s < n; ++s) {
+      const auto i = static_cast<std::size_t>(s);
+      Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
+      gather(ball_ball_, bb_offsets_, bb_entries_, i, force, torque);
+      gather(ball_pebble_, bp_offsets_, bp_entries_, i, force, torque);
+      p.f[i] = force;
+      p.t[i] = torque;
+    }
   }
 
   for (auto& w : walls_) {

@@ -89,9 +89,10 @@ void World::integrate() {
       const Mat3 inertia = c.inertia_world();
       const Vec3 total_torque = damped(torque + c.applied_torque, c.w, alpha) - c.w.cross(inertia * c.w);
       masked_add(c.w, inertia.ldlt().solve(total_torque) * dt, c.fixed, 3);
-      const double angle = c.w.norm() * dt;
-      if (angle > 0.0) c.orientation = (Quat(Eigen::AngleAxisd(angle, c.w.normalized())) * c.orientation).normalized();
     }
+    // A prescribed (fixed) spin turns the clump too.
+    const double angle = c.w.norm() * dt;
+    if (angle > 0.0) c.orientation = (Quat(Eigen::AngleAxisd(angle, c.w.normalized())) * c.orientation).normalized();
     c.x += c.v * dt;
     c.displacement += c.v * dt;
     if (!c.x.allFinite() || !c.v.allFinite() || !c.w.allFinite())

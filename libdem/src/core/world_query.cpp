@@ -137,11 +137,11 @@ double World::critical_time_step() const {
   // A ball with a single contact, so that a loose packing (no contacts yet) gets a time step too.
   if (std::isfinite(smallest)) {
     const double m = p.mass[smallest_index];
-    for (ContactKind kind : {ContactKind::BallBall, ContactKind::BallFacet}) {
+    for (ContactKind kind : {ContactKind::BallBall, ContactKind::BallFacet, ContactKind::BallPebble}) {
       const ContactModel* model = contact_model(kind);
       if (model == nullptr) continue;
       const ContactStiffness s =
-          model->stiffness(kinematics(kind, smallest, kind == ContactKind::BallBall ? smallest : 0.0));
+          model->stiffness(kinematics(kind, smallest, kind == ContactKind::BallFacet ? 0.0 : smallest));
       dt = std::min(dt, std::sqrt(m / (s.normal + s.shear)));
     }
   }

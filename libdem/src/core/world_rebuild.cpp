@@ -65,9 +65,8 @@ void build_incidence(const PairContacts& c, std::size_t particles, std::vector<s
 }  // namespace
 
 bool World::needs_rebuild() const {
-  const double skin = resolved_skin();
   const double travel = std::sqrt(max_travel_sq_);
-  return 2.0 * travel > skin || travel + max_wall_travel_ > skin;
+  return 2.0 * travel > skin_ || travel + max_wall_travel_ > skin_;
 }
 
 void World::rebuild_now(bool resort) { rebuild(resort); }
@@ -75,6 +74,7 @@ void World::rebuild_now(bool resort) { rebuild(resort); }
 void World::rebuild(bool resort) {
   ParticleStore& p = particles_;
   const double skin = resolved_skin();
+  skin_ = skin;
 
   // History of the last step, keyed by stable ids (storage indices change when re-sorting).
   const auto old_bb_keys = touching_keys(ball_ball_, p);

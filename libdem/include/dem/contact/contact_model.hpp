@@ -46,6 +46,11 @@ struct KernelContext {
   const std::vector<FacetWall>* walls = nullptr;
   double dt = 0.0;  // s
   int threads = 1;
+  /// Serial runs add each pair's force and torque straight into these per-particle sums (N,
+  /// N m) instead of the per-contact buffers that the parallel gather reads. Contacts are visited
+  /// in the same order as the gather adds them, so both paths give bit-identical sums.
+  Vec3* scatter_force = nullptr;
+  Vec3* scatter_torque = nullptr;
 };
 
 /// A contact law bound to its parameters, for one contact type.

@@ -166,6 +166,8 @@ class World {
   std::int64_t steps_ = 0;
   double max_travel_sq_ = 0.0;  // largest squared displacement since the last rebuild, m^2
   double max_wall_travel_ = 0.0;
+  double skin_ = 0.0;  // m, the skin of the current lists (resolved at each rebuild)
+  bool last_step_serial_ = true;  // the per-contact torque records are stale after serial steps
 };
 
 }  // namespace dem

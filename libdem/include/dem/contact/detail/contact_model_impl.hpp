@@ -29,11 +29,14 @@ void compute_pairs(const typename Law::Params& params, PairContacts& c, const Ke
   using State = typename Law::State;
   const ParticleStore& p = *ctx.particles;
   const std::int64_t count = static_cast<std::int64_t>(c.size());
+  const bool scatter = ctx.scatter_force != nullptr;
   c.force.resize(c.size(), Vec3::Zero());
-  c.torque_first.resize(c.size(), Vec3::Zero());
-  c.torque_second.resize(c.size(), Vec3::Zero());
   c.normal_force.resize(c.size(), 0.0);
-#pragma omp parallel num_threads(threads_for(count, ctx.threads))
+  if (!scatter) {
+    c.torque_first.resize(c.size(), Vec3::Zero());
+    c.torque_second.resize(c.size(), Vec3::Zero());
+  }
+#pragma omp parallel num_threads(scatter ? 1 : threads_for(count, ctx.threads))
   {
     OverlapMonitor local;
 #pragma omp for schedule(static)
@@ -49,9 +52,11 @@ void compute_pairs(const typename Law::Params& params, PairContacts& c, const Ke
         if (c.normal_force[k] != 0.0 || !c.force[k].isZero(0.0)) {
           state_at<State>(c.state, static_cast<std::size_t>(k)) = State{};
           c.force[k].setZero();
-          c.torque_first[k].setZero();
-          c.torque_second[k].setZero();
           c.normal_force[k] = 0.0;
+          if (!scatter) {
+            c.torque_first[k].setZero();
+            c.torque_second[k].setZero();
+          }
         }
         continue;
       }
@@ -72,9 +77,18 @@ void compute_pairs(const typename Law::Params& params, PairContacts& c, const Ke
       kin.kind = c.kind;
       const ContactForce out = Law::force(params, kin, state);
       c.force[k] = out.force;
-      c.torque_first[k] = -arm_first.cross(out.force) - out.moment;
-      c.torque_second[k] = arm_second.cross(out.force) + out.moment;
       c.normal_force[k] = out.normal_force;
+      const Vec3 torque_first = -arm_first.cross(out.force) - out.moment;
+      const Vec3 torque_second = arm_second.cross(out.force) + out.moment;
+      if (scatter) {
+        ctx.scatter_force[i] -= out.force;
+        ctx.scatter_torque[i] += torque_first;
+        ctx.scatter_force[j] += out.force;
+        ctx.scatter_torque[j] += torque_second;
+      } else {
+        c.torque_first[k] = torque_first;
+        c.torque_second[k] = torque_second;
+      }
       const double ratio = kin.overlap / std::min(p.radius[i], p.radius[j]);
       if (ratio > local.ratio) local = OverlapMonitor{ratio, k};
     }
