@@ -1,0 +1,134 @@
+// The NGI-type simple-shear test of the study, as a reusable protocol: a cylindrical specimen made
+// by radius expansion between two facet plates inside a stack of clump rings, consolidated by a
+// servo-controlled top plate, then sheared by moving the bottom plate horizontally along one or
+// several directions while the top plate keeps the vertical stress (drained) or the height
+// (constant volume). Apps drive it; a calibration runs many shears from one consolidated state.
+//
+// Kinematics (MODEL.md 8): the top plate is held horizontally, the bottom plate moves along -d
+// for a leg of direction d, so the top moves by +d relative to the bottom: shear strain
+// gamma = (u_top - u_bottom)_horizontal / H_c, with H_c the height after consolidation. Shear
+// stress is the horizontal force of the top plate on the sand over the specimen area, positive
+// along the shear. Principal stresses and their rotation come from a measurement sphere at
+// mid-height, which follows the mean horizontal displacement of the specimen.
+//
+// Runs are steps in chunks of `chunk_steps`; outputs and restart files are written only between
+// chunks, so a run resumed from a restart file repeats the uninterrupted run exactly.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <iosfwd>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <dem/boundary/servo_wall.hpp>
+#include <dem/core/world.hpp>
+#include <dem/io/csv.hpp>
+#include <dem/lab/simple_shear_config.hpp>
+#include <dem/measure/measurement_sphere.hpp>
+
+namespace dem::lab {
+
+class FabricLog;
+class SnapshotWriter;
+
+enum class ShearStage : int { Empty = 0, Generated = 1, Consolidated = 2, Shearing = 3, Done = 4 };
+
+/// One history row (SI; stresses compression positive, as soil mechanics quotes them).
+struct ShearState {
+  double time = 0.0;                                  // s
+  double shear_strain_x = 0, shear_strain_y = 0, shear_strain = 0;     // -
+  double shear_stress_x = 0, shear_stress_y = 0, shear_stress = 0;     // Pa, top plate
+  double shear_stress_bottom = 0;                     // Pa, bottom plate, along the resultant
+  double vertical_stress = 0;                         // Pa, top plate
+  double vertical_stress_bottom = 0;                  // Pa, bottom plate
+  double height = 0;                                  // m
+  double volumetric_strain = 0;                       // -, sign per config
+  double lateral_stress = 0;                          // Pa, radial push on the rings
+  SphereMeasurement sphere;                           // measurement sphere
+  double principal_rotation_deg = 0;                  // deg, in the plane of the current leg
+  std::size_t contacts = 0;                           // ball-ball contacts
+  double mean_contact_force = 0;                      // N, ball-ball
+  double kinetic_energy = 0;                          // J
+};
+
+class SimpleShearTest {
+ public:
+  /// Sets up the run; nothing is simulated yet. `log` receives progress lines.
+  SimpleShearTest(SimpleShearConfig config, std::filesystem::path out_dir, std::ostream& log);
+  ~SimpleShearTest();
+  SimpleShearTest(const SimpleShearTest&) = delete;
+  SimpleShearTest& operator=(const SimpleShearTest&) = delete;
+
+  /// Specimen by radius expansion in the ring stack (MODEL.md 7).
+  void generate();
+  /// Servo consolidation to the vertical stress, until stress and kinetic energy have settled.
+  void consolidate();
+  /// All shear legs, with history, fabric, snapshots and restart files in the output folder.
+  void shear();
+  /// Whatever remains of generate, consolidate and shear, then the summary.
+  void run();
+
+  /// Writes the world and the protocol's progress (atomically).
+  void save_restart(const std::filesystem::path& file) const;
+  /// Continues from a restart file of the same configuration: after generation, after
+  /// consolidation, or anywhere in the shear. Outputs already written past the restart point
+  /// are trimmed so that they match the resumed run.
+  void load_restart(const std::filesystem::path& file);
+
+  /// The current state, measured now.
+  ShearState measure() const;
+  /// summary.json: counts, porosity, ASTM D6528 ratios, peak and final values, timing.
+  void write_summary(const std::string& resolved_config_json) const;
+
+  const World& world() const { return *world_; }
+  ShearStage stage() const { return stage_; }
+  const SimpleShearConfig& config() const { return config_; }
+  double consolidated_height() const { return consolidated_height_; }  // m
+  double shear_rate() const;       // 1/s
+  double inertial_number() const;  // -, at the shear rate and the vertical stress
+  std::size_t ball_count() const { return ball_count_; }
+  double generated_porosity() const { return generated_porosity_; }
+  static constexpr std::int64_t chunk_steps = 10;
+
+ private:
+  void build_world();
+  void set_contact_models(bool frictionless);
+  void record_history();
+  void record_outputs(bool force);
+  void maybe_save_restart();
+  void progress(const std::string& stage, const std::string& detail) const;
+  std::string protocol_state() const;
+  void restore_protocol_state(const std::string& text);
+  Vec3 leg_direction(std::size_t leg) const;
+  void start_leg();
+
+  SimpleShearConfig config_;
+  std::filesystem::path out_dir_;
+  std::ostream& log_;
+  std::unique_ptr<World> world_;
+  std::shared_ptr<ServoWall> servo_;
+  WallId bottom_ = -1, top_ = -1;
+  std::unique_ptr<FabricLog> fabric_;
+  std::unique_ptr<SnapshotWriter> snapshots_;
+  io::CsvTable history_;
+
+  ShearStage stage_ = ShearStage::Empty;
+  std::size_t ball_count_ = 0;
+  double generated_porosity_ = 0.0;
+  double consolidated_height_ = 0.0;   // m
+  double area_ = 0.0;                  // m^2
+  std::size_t leg_ = 0;                // current shear leg
+  double leg_start_strain_ = 0.0;      // path strain at the start of the leg
+  double path_strain_ = 0.0;           // accumulated |d gamma| along the legs
+  double next_output_strain_ = 0.0;
+  std::size_t next_fabric_ = 0, next_snapshot_ = 0;
+  std::int64_t last_restart_step_ = 0;
+  Vec3 previous_relative_ = Vec3::Zero();  // m, top minus bottom horizontal displacement at the last chunk
+  double wall_seconds_ = 0.0;          // s, simulated-run wall clock so far (all sessions)
+  std::int64_t steps_at_shear_start_ = 0;
+  mutable double last_progress_ = -1e9;
+};
+
+}  // namespace dem::lab

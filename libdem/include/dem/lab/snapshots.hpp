@@ -1,0 +1,80 @@
+// Snapshots of a run for ParaView and for plotting scripts: the study's force-network pictures
+// (contacts in the slab |y| < 2 mm), incremental displacement vectors between snapshots (front
+// and side views) and the apparatus around them.
+//
+// Each write(world, label, time, shear_strain) puts into the output folder:
+//   balls_<label>.vtp     free balls (not pebbles) as points: radius (m), id, velocity (m/s),
+//                         displacement (m) since the previous snapshot
+//   balls_<label>.csv     id,x,y,z,radius,ux,uy,uz,vx,vy,vz   (m, m, m/s)
+//   contacts_<label>.vtp  touching ball-ball contacts as segments between the two centres, with
+//                         cell data normal_force (N, elastic, compression positive) and
+//                         force_magnitude (N, |normal + tangential|)
+//   contacts_<label>.csv  x1,y1,z1,x2,y2,z2,cx,cy,cz,normal_force,force_x,force_y,force_z
+//                         (centres of balls 1 and 2, contact point c, in m; forces in N, the
+//                         force being the one ball 2 receives)
+//   walls_<label>.vtp     the triangles of every facet wall at their current position, with cell
+//                         data wall (the WallId)
+//   pebbles_<label>.vtp   the pebbles of the clumps (the rings) as points: radius (m), clump
+// and rewrites balls.pvd, contacts.pvd, walls.pvd and pebbles.pvd (ParaView time series, time =
+// the `time` argument) and the index snapshots.csv: label,time_s,shear_strain,balls,contacts.
+// Every file is written atomically. Rows of the CSVs are sorted by ball id, so two snapshots of
+// the same run line up row by row.
+//
+// Displacements: position minus the position of the same ball (ParticleStore::id, which the
+// engine's re-sorting of storage does not change) at the previous snapshot; zero at a ball's
+// first snapshot. The writer therefore holds the last positions (one Vec3 per ball); resume()
+// restores them after a restart. Velocities are the engine's, half a step behind positions.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include <dem/core/world.hpp>
+#include <dem/io/vtk.hpp>
+
+namespace dem::lab {
+
+class SnapshotWriter {
+ public:
+  /// `dir` is created (with parents) at the first write. An empty path is a dem::InputError.
+  explicit SnapshotWriter(std::filesystem::path dir);
+
+  /// Writes one snapshot. Throws dem::InputError, before writing anything, if `label` is empty,
+  /// has a character other than letters, digits, '_', '-', '.' (it becomes part of file names),
+  /// or was used by an earlier snapshot of this writer; if time (s) is not finite or is less
+  /// than the previous snapshot's; or if shear_strain (-) is not finite.
+  void write(const World& world, const std::string& label, double time, double shear_strain);
+
+  /// Continues the snapshots of an earlier run in the same folder (a resumed simulation): keeps
+  /// the first `snapshots` rows of snapshots.csv, deletes the files of later ones, rebuilds the
+  /// .pvd collections and reloads the ball positions of the last kept snapshot for the next
+  /// displacements. A missing index is an empty series. Throws dem::InputError if the index is
+  /// malformed or holds fewer snapshots than asked.
+  void resume(std::size_t snapshots);
+
+  /// Number of snapshots written (including those kept by resume()).
+  std::size_t snapshots() const { return index_.size(); }
+
+  const std::filesystem::path& directory() const { return dir_; }
+
+ private:
+  struct IndexRow {
+    std::string label;
+    double time;          // s
+    double shear_strain;  // -
+    std::size_t balls, contacts;
+  };
+
+  void save_index() const;
+  void add_to_collections(const IndexRow& row);
+
+  std::filesystem::path dir_;
+  std::vector<IndexRow> index_;
+  std::vector<io::PvdCollection> collections_;          // balls, contacts, walls, pebbles
+  std::unordered_map<ParticleId, Vec3> last_position_;  // m, by ball id, at the last snapshot
+};
+
+}  // namespace dem::lab

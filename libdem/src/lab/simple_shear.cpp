@@ -1,0 +1,325 @@
+// The simple-shear protocol: world set-up, generation, consolidation and shear. Measurements,
+// outputs and restart files are in simple_shear_outputs.cpp.
+#include <dem/lab/simple_shear.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <ostream>
+#include <random>
+#include <unordered_map>
+
+#include <dem/boundary/clump_ring.hpp>
+#include <dem/contact/linear_law.hpp>
+#include <dem/core/errors.hpp>
+#include <dem/geometry/mesh.hpp>
+#include <dem/lab/fabric_log.hpp>
+#include <dem/lab/snapshots.hpp>
+
+namespace dem::lab {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+RollingLinearLaw::Params law_params(const ContactTypeConfig& c, bool frictionless) {
+  auto p = RollingLinearLaw::Params::deformable(c.effective_modulus, c.stiffness_ratio, frictionless ? 0.0 : c.friction,
+                                                frictionless ? 0.0 : c.rolling_friction);
+  p.normal_damping_ratio = c.normal_damping_ratio;
+  p.shear_damping_ratio = c.shear_damping_ratio;
+  return p;
+}
+
+std::vector<std::string> history_columns() {
+  return {"time", "step", "stage", "shear_strain_x", "shear_strain_y", "shear_strain", "shear_stress_x", "shear_stress_y",
+          "shear_stress", "shear_stress_bottom", "vertical_stress", "vertical_stress_bottom", "height",
+          "volumetric_strain", "lateral_stress", "k0", "sigma_1", "sigma_2", "sigma_3", "principal_rotation_deg",
+          "ms_sxx", "ms_syy", "ms_szz", "ms_sxy", "ms_sxz", "ms_syz", "ms_shear_stress", "coordination_number",
+          "contacts", "mean_contact_force", "porosity", "kinetic_energy", "inertial_number"};
+}
+
+}  // namespace
+
+SimpleShearTest::SimpleShearTest(SimpleShearConfig config, std::filesystem::path out_dir, std::ostream& log)
+    : config_(std::move(config)), out_dir_(std::move(out_dir)), log_(log), history_(history_columns()) {
+  config_.grading.validate("grading");
+  require(config_.total_strain() > 0.0, "shear strain", config_.total_strain(), "> 0");
+  std::filesystem::create_directories(out_dir_);
+  fabric_ = std::make_unique<FabricLog>(out_dir_ / "fabric.csv");
+  snapshots_ = std::make_unique<SnapshotWriter>(out_dir_ / "snapshots");
+  build_world();
+}
+
+SimpleShearTest::~SimpleShearTest() = default;
+
+void SimpleShearTest::build_world() {
+  WorldSettings s;
+  s.local_damping = config_.local_damping;
+  s.time_step = config_.time_step;
+  s.time_step_safety = config_.time_step_safety;
+  s.threads = config_.threads;
+  world_ = std::make_unique<World>(s);
+  const double radius = config_.diameter / 2, height = config_.height;
+  area_ = pi * radius * radius;
+  const double pebble_d = config_.pebble_diameter > 0 ? config_.pebble_diameter : config_.grading.smallest();
+
+  // Plates: discs reaching under the rings, loaded over the specimen's cross-section.
+  const double plate_radius = radius + 2.0 * pebble_d;
+  bottom_ = world_->add_wall(make_facet_wall("bottom", geometry::make_disc(Vec3::Zero(), plate_radius, -Vec3::UnitZ(), 24),
+                                             -Vec3::UnitZ(), area_));
+  top_ = world_->add_wall(make_facet_wall("top", geometry::make_disc(Vec3(0, 0, height), plate_radius, Vec3::UnitZ(), 24),
+                                          Vec3::UnitZ(), area_));
+  RingStackSpec rings;
+  rings.inner_radius = radius;
+  rings.height = height;
+  rings.ring_height = pebble_d;
+  rings.pebble_radius = pebble_d / 2;
+  rings.gap = config_.ring_gap > 0 ? config_.ring_gap : 0.05 * pebble_d;
+  rings.ring_density = config_.ring_density;
+  rings.max_opening = config_.grading.smallest();
+  rings.fixed = dof_all;  // held while the specimen is generated; released afterwards
+  for (const ClumpSpec& ring : make_ring_stack(rings)) world_->add_clump(ring);
+  set_contact_models(false);
+}
+
+void SimpleShearTest::set_contact_models(bool frictionless) {
+  world_->set_contact_model(ContactKind::BallBall,
+                            make_contact_model<RollingLinearLaw>(law_params(config_.ball_ball, frictionless), "ball_ball"));
+  world_->set_contact_model(ContactKind::BallFacet,
+                            make_contact_model<RollingLinearLaw>(law_params(config_.ball_facet, frictionless), "ball_facet"));
+  world_->set_contact_model(ContactKind::BallPebble,
+                            make_contact_model<RollingLinearLaw>(law_params(config_.ball_pebble, frictionless), "ball_pebble"));
+}
+
+void SimpleShearTest::generate() {
+  require(stage_ == ShearStage::Empty, "generate() stage", static_cast<int>(stage_), "0 (empty world)");
+  const auto t0 = std::chrono::steady_clock::now();
+  const double radius = config_.diameter / 2, height = config_.height;
+  const double cavity = pi * radius * radius * height;
+  std::mt19937_64 rng(config_.seed);
+  const std::vector<double> diameters = sample_diameters(config_.grading, (1.0 - config_.porosity) * cavity, rng);
+  double solid = 0.0;
+  for (double d : diameters) solid += pi / 6 * d * d * d;
+  generated_porosity_ = 1.0 - solid / cavity;
+  ball_count_ = diameters.size();
+  log_ << "generation: " << ball_count_ << " balls, d = " << config_.grading.smallest() * 1e3 << "-"
+       << config_.grading.largest() * 1e3 << " mm, porosity " << generated_porosity_ << ", H/d_max = "
+       << height / config_.grading.largest() << "\n";
+
+  // Half-size balls at random, without overlap (solid fraction (1 - n)/8 ~ 0.08: few rejections).
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double cell = config_.grading.largest() / 2;
+  std::unordered_map<std::int64_t, std::vector<std::size_t>> cells;
+  auto key = [&](int i, int j, int k) {
+    return (static_cast<std::int64_t>(i) * 4096 + j) * 4096 + k;
+  };
+  std::vector<Vec3> placed;
+  std::vector<double> placed_r;
+  for (std::size_t n = 0; n < diameters.size(); ++n) {
+    const double r = diameters[n] / 4;  // half the target radius
+    for (int attempt = 0;; ++attempt) {
+      require(attempt < 100000, "generation", "(no room)", "a cavity large enough for the balls at half size");
+      const Vec3 x((2 * unit(rng) - 1) * (radius - r), (2 * unit(rng) - 1) * (radius - r), r + unit(rng) * (height - 2 * r));
+      if (x.head<2>().norm() > radius - r) continue;
+      const int ci = static_cast<int>(std::floor(x.x() / cell)) + 2048, cj = static_cast<int>(std::floor(x.y() / cell)) + 2048,
+                ck = static_cast<int>(std::floor(x.z() / cell));
+      bool clear = true;
+      for (int a = -1; a <= 1 && clear; ++a)
+        for (int b = -1; b <= 1 && clear; ++b)
+          for (int c = -1; c <= 1 && clear; ++c) {
+            const auto it = cells.find(key(ci + a, cj + b, ck + c));
+            if (it == cells.end()) continue;
+            for (std::size_t other : it->second)
+              if ((placed[other] - x).norm() < placed_r[other] + r) clear = false;
+          }
+      if (!clear) continue;
+      cells[key(ci, cj, ck)].push_back(placed.size());
+      placed.push_back(x);
+      placed_r.push_back(r);
+      break;
+    }
+  }
+  std::vector<ParticleId> ids;
+  for (std::size_t n = 0; n < placed.size(); ++n) {
+    BallSpec b;
+    b.position = placed[n];
+    b.radius = placed_r[n];
+    b.density = config_.density;
+    ids.push_back(world_->add_ball(b));
+  }
+
+  // Expansion to full size in stages, frictionless, cycling towards equilibrium in between.
+  set_contact_models(true);
+  // Each stage grows the radii in small increments (a jump would overlap neighbours by a large
+  // fraction of a radius and trip the instability check), then cycles towards equilibrium.
+  constexpr int increments = 10;
+  constexpr std::int64_t steps_per_increment = 50;
+  for (int stage = 1; stage <= config_.expansion_stages; ++stage) {
+    double factor = 0.5;
+    for (int inc = 1; inc <= increments; ++inc) {
+      factor = 0.5 + 0.5 * ((stage - 1) + static_cast<double>(inc) / increments) / config_.expansion_stages;
+      ParticleStore& p = world_->particles();
+      for (std::size_t n = 0; n < ids.size(); ++n) p.set_radius(p.index_of(ids[n]), factor * diameters[n] / 2);
+      world_->invalidate_contacts();
+      world_->update_time_step();
+      world_->step(steps_per_increment);
+    }
+    for (long s = 0; s < config_.expansion_steps; s += 100) {
+      world_->step(100);
+      if (world_->unbalanced_force_ratio() < config_.equilibrium_ratio) break;
+    }
+    std::ostringstream detail;
+    detail << "stage " << stage << "/" << config_.expansion_stages << ", radius x" << factor << ", unbalanced ratio "
+           << world_->unbalanced_force_ratio() << ", top plate " << world_->wall(top_).normal_stress() / 1e3 << " kPa";
+    log_ << "[generation] " << detail.str() << std::endl;
+  }
+  for (Clump& ring : world_->clumps()) ring.fixed = dof_z | dof_rotation;  // rings now follow the sand
+  set_contact_models(false);
+  stage_ = ShearStage::Generated;
+  wall_seconds_ += seconds_since(t0);
+  log_ << "generation done in " << seconds_since(t0) << " s, " << world_->step_count() << " steps\n";
+}
+
+void SimpleShearTest::consolidate() {
+  require(stage_ == ShearStage::Generated, "consolidate() stage", static_cast<int>(stage_), "1 (generated)");
+  const auto t0 = std::chrono::steady_clock::now();
+  ServoSettings servo;
+  servo.target_stress = config_.vertical_stress;
+  servo.relaxation = config_.servo_relaxation;
+  servo.max_speed = config_.servo_max_speed;
+  servo.settle_tolerance = config_.stress_tolerance;
+  servo.settle_steps = static_cast<int>(config_.settle_steps);
+  if (!servo_) servo_ = add_servo_wall(*world_, top_, servo);
+  const std::int64_t start = world_->step_count();
+  bool settled = false;
+  while (world_->step_count() - start < config_.consolidation_max_steps) {
+    world_->step(chunk_steps);
+    settled = servo_->settled() && world_->unbalanced_force_ratio() < config_.equilibrium_ratio;
+    if (settled) break;
+    std::ostringstream detail;
+    detail << "step " << world_->step_count() << ", vertical stress " << servo_->achieved_stress() / 1e3 << " kPa (target "
+           << config_.vertical_stress / 1e3 << "), unbalanced ratio " << world_->unbalanced_force_ratio();
+    progress("consolidation", detail.str());
+  }
+  if (!settled)
+    log_ << "warning: consolidation did not settle within consolidation.max_steps = " << config_.consolidation_max_steps
+         << " (stress " << servo_->achieved_stress() << " Pa, target " << config_.vertical_stress << " Pa)\n";
+  const FacetWall& top = world_->wall(top_);
+  const FacetWall& bottom = world_->wall(bottom_);
+  consolidated_height_ = (config_.height + top.displacement.z()) - bottom.displacement.z();
+  stage_ = ShearStage::Consolidated;
+  wall_seconds_ += seconds_since(t0);
+  log_ << "consolidation done in " << seconds_since(t0) << " s: H_c = " << consolidated_height_ * 1e3
+       << " mm, vertical stress " << top.normal_stress() / 1e3 << " kPa\n";
+  next_output_strain_ = 0.0;
+  record_outputs(true);
+  save_restart(out_dir_ / "consolidated.restart");
+}
+
+Vec3 SimpleShearTest::leg_direction(std::size_t leg) const {
+  const double a = config_.legs.at(leg).direction_deg * pi / 180.0;
+  return Vec3(std::cos(a), std::sin(a), 0.0);
+}
+
+double SimpleShearTest::shear_rate() const {
+  if (config_.strain_rate > 0.0) return config_.strain_rate;
+  // I = gamma_dot d_mean sqrt(rho / p) (MODEL.md 3.4)
+  const ParticleStore& p = world_->particles();
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (!p.is_pebble(i)) sum += 2 * p.radius[i], ++n;
+  const double d_mean = n > 0 ? sum / static_cast<double>(n) : config_.grading.largest();
+  return config_.inertial_number / (d_mean * std::sqrt(config_.density / config_.vertical_stress));
+}
+
+double SimpleShearTest::inertial_number() const {
+  const ParticleStore& p = world_->particles();
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (!p.is_pebble(i)) sum += 2 * p.radius[i], ++n;
+  return shear_rate() * (sum / std::max<std::size_t>(n, 1)) * std::sqrt(config_.density / config_.vertical_stress);
+}
+
+void SimpleShearTest::start_leg() {
+  const double speed = shear_rate() * consolidated_height_;  // m/s of the bottom plate
+  FacetWall& bottom = world_->wall(bottom_);
+  bottom.velocity = -speed * leg_direction(leg_);
+  FacetWall& top = world_->wall(top_);
+  top.velocity.x() = top.velocity.y() = 0.0;
+  servo_->hold_position(config_.constant_volume);
+}
+
+void SimpleShearTest::shear() {
+  require(stage_ == ShearStage::Consolidated || stage_ == ShearStage::Shearing, "shear() stage", static_cast<int>(stage_),
+          "2 (consolidated) or 3 (shearing)");
+  const auto t0 = std::chrono::steady_clock::now();
+  if (stage_ == ShearStage::Consolidated) {
+    stage_ = ShearStage::Shearing;
+    leg_ = 0;
+    leg_start_strain_ = 0.0;
+    path_strain_ = 0.0;
+    steps_at_shear_start_ = world_->step_count();
+    const FacetWall& top = world_->wall(top_);
+    const FacetWall& bottom = world_->wall(bottom_);
+    previous_relative_ = top.displacement - bottom.displacement;
+    previous_relative_.z() = 0.0;
+    start_leg();
+    log_ << "shear: rate " << shear_rate() << " 1/s, inertial number " << inertial_number() << ", "
+         << (config_.constant_volume ? "constant volume" : "drained") << ", " << config_.legs.size() << " leg(s) to "
+         << config_.total_strain() << "\n";
+    if (inertial_number() > 1e-3 * 1.0001) log_ << "warning: inertial number above 1e-3: not quasi-static\n";
+  }
+  const std::int64_t steps_before = world_->step_count();
+  while (leg_ < config_.legs.size()) {
+    world_->step(chunk_steps);
+    const FacetWall& top = world_->wall(top_);
+    const FacetWall& bottom = world_->wall(bottom_);
+    Vec3 relative = top.displacement - bottom.displacement;
+    relative.z() = 0.0;
+    path_strain_ += (relative - previous_relative_).norm() / consolidated_height_;
+    previous_relative_ = relative;
+    const bool leg_done = path_strain_ - leg_start_strain_ >= config_.legs[leg_].strain * (1 - 1e-12);
+    if (leg_done) {
+      leg_start_strain_ += config_.legs[leg_].strain;
+      ++leg_;
+      if (leg_ < config_.legs.size()) start_leg();
+    }
+    record_outputs(leg_ == config_.legs.size());
+    maybe_save_restart();
+    const double elapsed = seconds_since(t0);
+    const double done = std::min(1.0, path_strain_ / config_.total_strain());
+    std::ostringstream detail;
+    detail.precision(4);
+    const std::int64_t steps = world_->step_count() - steps_before;
+    detail << "strain " << path_strain_ << " of " << config_.total_strain() << ", tau "
+           << (history_.rows().empty() ? 0.0 : history_.rows().back()[history_.column_index("shear_stress")]) / 1e3
+           << " kPa, sigma_v " << world_->wall(top_).normal_stress() / 1e3 << " kPa, "
+           << static_cast<double>(steps) * static_cast<double>(world_->particles().size()) / std::max(elapsed, 1e-9)
+           << " particle-steps/s, " << (done > 0 ? elapsed * (1 - done) / done : 0.0) << " s left";
+    progress("shear", detail.str());
+  }
+  stage_ = ShearStage::Done;
+  world_->wall(bottom_).velocity.setZero();
+  wall_seconds_ += seconds_since(t0);
+  save_restart(out_dir_ / "final.restart");
+  log_ << "shear done in " << seconds_since(t0) << " s, " << world_->step_count() - steps_at_shear_start_ << " steps\n";
+}
+
+void SimpleShearTest::run() {
+  if (stage_ == ShearStage::Empty) generate();
+  if (stage_ == ShearStage::Generated) consolidate();
+  if (stage_ == ShearStage::Consolidated || stage_ == ShearStage::Shearing) shear();
+}
+
+void SimpleShearTest::progress(const std::string& stage, const std::string& detail) const {
+  const double now = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  if (now - last_progress_ < config_.progress_seconds) return;
+  last_progress_ = now;
+  log_ << "[" << stage << "] " << detail << std::endl;
+}
+
+}  // namespace dem::lab

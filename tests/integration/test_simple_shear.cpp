@@ -1,0 +1,135 @@
+// The simple-shear protocol end to end on a reduced specimen (30 mm x 12 mm, 4D balls: about 170
+// balls): outputs, their consistency, determinism and restart equality.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <dem/io/csv.hpp>
+#include <dem/io/json.hpp>
+#include <dem/lab/simple_shear.hpp>
+
+using namespace dem;
+using namespace dem::lab;
+namespace fs = std::filesystem;
+using Catch::Matchers::Contains;
+
+namespace {
+
+io::Config small_config() {
+  io::Config c(simple_shear_schema());
+  for (const auto& [k, v] : preset_values("4D")) c.set(k, v);
+  c.set("specimen.diameter", "0.03");
+  c.set("specimen.height", "0.012");
+  c.set("shear.target_strain", "0.03");
+  c.set("output.every_strain", "0.002");
+  c.set("output.fabric_strains", "0,0.02");
+  c.set("output.snapshot_strains", "0,0.02");
+  c.set("output.restart_every_steps", "300");
+  c.set("engine.threads", "1");
+  return c;
+}
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("libdem_shear_" + name);
+  fs::remove_all(dir);
+  return dir;
+}
+
+std::string file_text(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+}  // namespace
+
+TEST_CASE("simple shear: a reduced specimen runs end to end with consistent outputs", "[simple-shear]") {
+  const io::Config c = small_config();
+  const fs::path dir = fresh_dir("run");
+  std::ostringstream log;
+  SimpleShearTest test(simple_shear_config(c), dir, log);
+  test.run();
+  test.write_summary(c.to_json());
+  for (const char* f : {"history.csv", "summary.json", "fabric.csv", "consolidated.restart", "snapshots/balls.pvd",
+                        "snapshots/balls_strain_02.0.vtp", "snapshots/contacts_strain_02.0.csv"})
+    CHECK(fs::exists(dir / f));
+  const io::CsvData h = io::read_csv(dir / "history.csv");
+  for (const char* col : {"time", "shear_strain_x", "shear_strain_y", "shear_strain", "shear_stress_x", "shear_stress_y",
+                          "shear_stress", "vertical_stress", "volumetric_strain", "sigma_1", "sigma_2", "sigma_3",
+                          "principal_rotation_deg", "coordination_number", "contacts", "mean_contact_force", "porosity",
+                          "ms_sxx", "ms_syz"})
+    CHECK_NOTHROW(h.column(col));
+  REQUIRE(h.rows.size() >= 10);
+  const auto& first = h.rows.front();
+  const auto& last = h.rows.back();
+  // After consolidation the servo holds 200 kPa within its 1 % tolerance (the brief asks 2 %).
+  CHECK(first[h.column("vertical_stress")] == Approx(200e3).epsilon(0.02));
+  CHECK(last[h.column("shear_strain")] == Approx(0.03).epsilon(0.02));
+  CHECK(last[h.column("shear_strain_y")] == Approx(0.0).margin(1e-12));  // one leg along +x
+  // Drained shear: the vertical stress stays at the target, the shear stress has built up to a
+  // frictional fraction of it, positive along the shear.
+  CHECK(last[h.column("vertical_stress")] == Approx(200e3).epsilon(0.05));
+  const double ratio = last[h.column("shear_stress")] / last[h.column("vertical_stress")];
+  CHECK(ratio > 0.2);
+  CHECK(ratio < 1.0);
+  CHECK(last[h.column("shear_stress_x")] > 0.0);
+  // Shear stress from the plates and from the measurement sphere: same sign, same magnitude
+  // within 50 % on a specimen only ~5 balls high (boundary layers weigh a lot here).
+  const double tau_ms = last[h.column("ms_shear_stress")];
+  CHECK(tau_ms > 0.0);
+  CHECK(tau_ms == Approx(last[h.column("shear_stress")]).epsilon(0.5));
+  // Principal stresses are ordered and the major direction has rotated in the shear sense.
+  CHECK(last[h.column("sigma_1")] >= last[h.column("sigma_2")]);
+  CHECK(last[h.column("sigma_2")] >= last[h.column("sigma_3")]);
+  // At frictional failure in simple shear the major direction tilts by 45 deg +- phi/2 in the
+  // shear sense; the probe holds few balls here, so only the range is checked.
+  CHECK(last[h.column("principal_rotation_deg")] > 20.0);
+  CHECK(last[h.column("principal_rotation_deg")] < 70.0);
+  // Summary agrees with the history.
+  const io::Json s = io::Json::parse(file_text(dir / "summary.json"));
+  CHECK(s.at("balls").as_number() == static_cast<double>(test.ball_count()));
+  CHECK(s.at("final").at("shear_stress").as_number() == last[h.column("shear_stress")]);
+  CHECK(s.at("inertial_number").as_number() == Approx(1e-3).epsilon(1e-9));
+}
+
+TEST_CASE("simple shear: same seed, same history; a resumed run equals the uninterrupted one", "[simple-shear]") {
+  const io::Config c = small_config();
+  const fs::path a = fresh_dir("a"), b = fresh_dir("b"), resumed = fresh_dir("resumed");
+  std::ostringstream log;
+  {
+    SimpleShearTest run_a(simple_shear_config(c), a, log);
+    run_a.run();
+  }
+  {
+    SimpleShearTest run_b(simple_shear_config(c), b, log);
+    run_b.run();
+  }
+  CHECK(file_text(a / "history.csv") == file_text(b / "history.csv"));
+  // The last periodic restart file lies within the shear; resume from it in a copy of the
+  // folder (whose outputs run past the restart point and must be trimmed back to it).
+  REQUIRE(fs::exists(b / "restart.restart"));
+  fs::copy(b, resumed, fs::copy_options::recursive);
+  {
+    SimpleShearTest run_c(simple_shear_config(c), resumed, log);
+    run_c.load_restart(resumed / "restart.restart");
+    CHECK(run_c.stage() == ShearStage::Shearing);
+    run_c.run();
+  }
+  CHECK(file_text(resumed / "history.csv") == file_text(a / "history.csv"));
+  CHECK(file_text(resumed / "fabric.csv") == file_text(a / "fabric.csv"));
+}
+
+TEST_CASE("simple shear: bad configuration values are refused with the key and what is allowed", "[simple-shear]") {
+  io::Config c(simple_shear_schema());
+  CHECK_THROWS_WITH(c.set("shear.mode", "undrained-ish"), Contains("shear.mode") && Contains("constant-volume"));
+  CHECK_THROWS_WITH(c.set("specimen.porosity", "1.5"), Contains("specimen.porosity") && Contains("1.5"));
+  CHECK_THROWS_WITH(c.set("shear.targte_strain", "0.1"), Contains("shear.target_strain"));
+  CHECK_THROWS_WITH(preset_values("3D"), Contains("1D, 2D, 4D"));
+  c.set("shear.directions_deg", "0,90");
+  CHECK_THROWS_WITH(simple_shear_config(c), Contains("shear.leg_strains"));
+  c.set("grading.d_max", "0.0005");
+  CHECK_THROWS_WITH(simple_shear_config(c), Contains("grading.d_max"));
+}
