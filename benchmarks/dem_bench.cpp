@@ -84,7 +84,10 @@ int main(int argc, char** argv) {
       "steps", po::value(&steps)->default_value(0), "timed steps (0: the peers' count for this size)")(
       "threads", po::value(&threads)->default_value(1), "OpenMP threads")(
       "segments", po::value<int>()->default_value(360), "facets around the cylinder side wall")(
-      "report-every", po::value<long>()->default_value(0), "print contacts and stress every N steps (0: never)");
+      "report-every", po::value<long>()->default_value(0), "print contacts and stress every N steps (0: never)")(
+      "boundary", po::value<std::string>()->default_value("cylinder"),
+      "cylinder: the peers' walls; rings: the simple-shear boundary (clump ring stack and facet discs); "
+      "none: no walls (to measure what the boundaries cost)");
   try {
     po::variables_map vm;
     po::store(po::parse_command_line(argc, argv, opts), vm);
@@ -121,18 +124,35 @@ int main(int argc, char** argv) {
     s.threads = threads;
     World world(s);
     for (const auto& b : balls) world.add_ball(b);
+    const std::string boundary = vm["boundary"].as<std::string>();
+    if (boundary != "cylinder" && boundary != "rings" && boundary != "none")
+      throw InputError("--boundary = " + boundary + ": must be cylinder, rings or none");
     const int segments = vm["segments"].as<int>();
     // Circumscribed polygon: its flat faces are tangent to the 35 mm circle, as the analytic wall.
     const double r_poly = 0.035 / std::cos(pi / segments);
-    world.add_wall(make_facet_wall("side", geometry::make_cylinder_shell(Vec3(0, 0, -0.001), r_poly, top_z + 0.002, segments, true), Vec3::UnitX()));
-    world.add_wall(make_facet_wall("bottom", geometry::make_rectangle(Vec3::Zero(), Vec3(0.0355, 0, 0), Vec3(0, 0.0355, 0)), -Vec3::UnitZ()));
-    const WallId top = world.add_wall(make_facet_wall("top", geometry::make_rectangle(Vec3(0, 0, top_z), Vec3(0.0355, 0, 0), Vec3(0, 0.0355, 0)), Vec3::UnitZ()));
-    world.wall(top).velocity = Vec3(0, 0, -wall_speed);
+    WallId top = -1;
+    if (boundary == "cylinder") {
+      world.add_wall(make_facet_wall("side", geometry::make_cylinder_shell(Vec3(0, 0, -0.001), r_poly, top_z + 0.002, segments, true), Vec3::UnitX()));
+      world.add_wall(make_facet_wall("bottom", geometry::make_rectangle(Vec3::Zero(), Vec3(0.0355, 0, 0), Vec3(0, 0.0355, 0)), -Vec3::UnitZ()));
+      top = world.add_wall(make_facet_wall("top", geometry::make_rectangle(Vec3(0, 0, top_z), Vec3(0.0355, 0, 0), Vec3(0, 0.0355, 0)), Vec3::UnitZ()));
+    } else if (boundary == "rings") {
+      // As the simple-shear app builds it: pebbles of the smallest ball diameter, discs as plates.
+      RingStackSpec rings;
+      rings.inner_radius = 0.035;
+      rings.height = top_z;
+      rings.ring_height = d_min;
+      rings.pebble_radius = d_min / 2;
+      rings.gap = 0.05 * d_min;
+      for (const ClumpSpec& ring : make_ring_stack(rings)) world.add_clump(ring);
+      world.add_wall(make_facet_wall("bottom", geometry::make_disc(Vec3::Zero(), 0.035 + 2 * d_min, -Vec3::UnitZ(), 24), -Vec3::UnitZ()));
+      top = world.add_wall(make_facet_wall("top", geometry::make_disc(Vec3(0, 0, top_z), 0.035 + 2 * d_min, Vec3::UnitZ(), 24), Vec3::UnitZ()));
+    }
+    if (top >= 0) world.wall(top).velocity = Vec3(0, 0, -wall_speed);
     auto law = RollingLinearLaw::Params::constant(kn, kn, 0.5, 0.17);
     law.normal_damping_rate = gamma_n;
     law.shear_damping_rate = gamma_n;
     const auto model = make_contact_model<RollingLinearLaw>(law, "contact");
-    for (ContactKind k : {ContactKind::BallBall, ContactKind::BallFacet}) world.set_contact_model(k, model);
+    for (ContactKind k : {ContactKind::BallBall, ContactKind::BallFacet, ContactKind::BallPebble}) world.set_contact_model(k, model);
 
     world.step(1);  // neighbour lists and contacts, as the peers' setup before the timed run
     const double contacts_start = 2.0 * world.contact_count(ContactKind::BallBall) / balls.size();
@@ -140,7 +160,9 @@ int main(int argc, char** argv) {
       world.add_callback(every, [&](World& w) {
         const double z = top_z - wall_speed * dt * static_cast<double>(w.step_count());
         std::printf("step %lld wall_contacts %d/%d/%d (side/bottom/top) contacts_per_ball %.4f vertical_stress_Pa %.6g kinetic_energy_J %.4g\n",
-                    static_cast<long long>(w.step_count()), w.walls()[0].contact_count, w.walls()[1].contact_count, w.walls()[2].contact_count, 2.0 * w.contact_count(ContactKind::BallBall) / balls.size(),
+                    static_cast<long long>(w.step_count()), w.walls().size() > 0 ? w.walls()[0].contact_count : 0,
+                    w.walls().size() > 1 ? w.walls()[1].contact_count : 0, w.walls().size() > 2 ? w.walls()[2].contact_count : 0,
+                    2.0 * w.contact_count(ContactKind::BallBall) / balls.size(),
                     vertical_stress(w, z), w.kinetic_energy());
       });
     const auto t0 = std::chrono::steady_clock::now();
