@@ -247,7 +247,7 @@ double SimpleShearTest::inertial_number() const {
 void SimpleShearTest::start_leg() {
   const double speed = shear_rate() * consolidated_height_;  // m/s of the bottom plate
   FacetWall& bottom = world_->wall(bottom_);
-  bottom.velocity = -speed * leg_direction(leg_);
+  bottom.velocity = speed * leg_direction(leg_);
   FacetWall& top = world_->wall(top_);
   top.velocity.x() = top.velocity.y() = 0.0;
   servo_->hold_position(config_.constant_volume);
@@ -265,7 +265,7 @@ void SimpleShearTest::shear() {
     steps_at_shear_start_ = world_->step_count();
     const FacetWall& top = world_->wall(top_);
     const FacetWall& bottom = world_->wall(bottom_);
-    previous_relative_ = top.displacement - bottom.displacement;
+    previous_relative_ = bottom.displacement - top.displacement;
     previous_relative_.z() = 0.0;
     start_leg();
     log_ << "shear: rate " << shear_rate() << " 1/s, inertial number " << inertial_number() << ", "
@@ -278,7 +278,7 @@ void SimpleShearTest::shear() {
     world_->step(chunk_steps);
     const FacetWall& top = world_->wall(top_);
     const FacetWall& bottom = world_->wall(bottom_);
-    Vec3 relative = top.displacement - bottom.displacement;
+    Vec3 relative = bottom.displacement - top.displacement;
     relative.z() = 0.0;
     path_strain_ += (relative - previous_relative_).norm() / consolidated_height_;
     previous_relative_ = relative;

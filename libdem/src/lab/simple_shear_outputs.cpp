@@ -36,17 +36,17 @@ ShearState SimpleShearTest::measure() const {
   s.time = w.time();
   s.height = (config_.height + top.displacement.z()) - bottom.displacement.z();
   const double reference = consolidated_height_ > 0 ? consolidated_height_ : s.height;
-  Vec3 relative = top.displacement - bottom.displacement;
+  Vec3 relative = bottom.displacement - top.displacement;
   relative.z() = 0.0;
   s.shear_strain_x = relative.x() / reference;
   s.shear_strain_y = relative.y() / reference;
   s.shear_strain = relative.norm() / reference;
-  // The force of the top plate on the sand is minus the sand's force on the plate.
-  s.shear_stress_x = -top.force.x() / area_;
-  s.shear_stress_y = -top.force.y() / area_;
+  // The sand, dragged along the shear by the bottom plate, pushes the top plate the same way.
+  s.shear_stress_x = top.force.x() / area_;
+  s.shear_stress_y = top.force.y() / area_;
   s.shear_stress = std::hypot(s.shear_stress_x, s.shear_stress_y);
   const Vec3 along = s.shear_stress > 0 ? Vec3(Vec3(s.shear_stress_x, s.shear_stress_y, 0) / s.shear_stress) : Vec3(Vec3::UnitX());
-  s.shear_stress_bottom = bottom.force.dot(along) / area_;
+  s.shear_stress_bottom = -bottom.force.dot(along) / area_;
   s.vertical_stress = top.normal_stress();
   s.vertical_stress_bottom = bottom.normal_stress();
   const double dilation = consolidated_height_ > 0 ? (s.height - consolidated_height_) / consolidated_height_ : 0.0;
@@ -75,7 +75,7 @@ ShearState SimpleShearTest::measure() const {
 
   // The probe sits at mid-height and follows the specimen's mean horizontal displacement.
   MeasurementSphere sphere;
-  sphere.centre = bottom.displacement + 0.5 * relative;
+  sphere.centre = 0.5 * (bottom.displacement + top.displacement);
   sphere.centre.z() = bottom.displacement.z() + 0.5 * s.height;
   sphere.radius = config_.probe_radius_ratio * 0.5 * s.height;
   s.sphere = dem::measure::measure(w, sphere);
@@ -84,9 +84,9 @@ ShearState SimpleShearTest::measure() const {
   const Mat3 compression = -s.sphere.stress;
   const double s_dd = d.dot(compression * d), s_dz = d.dot(compression * Vec3::UnitZ());
   const double s_zz = compression(2, 2);
-  // psi from vertical towards +d is 0.5 atan2(2 s_dz, s_zz - s_dd); shearing along +d tilts the
-  // major compression towards -d, so the rotation is reported positive in the shear sense.
-  s.principal_rotation_deg = -0.5 * std::atan2(2 * s_dz, s_zz - s_dd) * 180.0 / pi;
+  // Angle of the major compression from vertical towards +d (MODEL.md 6.3); with the bottom
+  // moving along +d it tilts towards +d, so it grows positive with shear.
+  s.principal_rotation_deg = 0.5 * std::atan2(2 * s_dz, s_zz - s_dd) * 180.0 / pi;
   return s;
 }
 
@@ -100,7 +100,7 @@ void SimpleShearTest::record_history() {
                     s.lateral_stress, s.vertical_stress > 0 ? s.lateral_stress / s.vertical_stress : 0.0,
                     s.sphere.principal.sigma_1, s.sphere.principal.sigma_2, s.sphere.principal.sigma_3,
                     s.principal_rotation_deg, c(0, 0), c(1, 1), c(2, 2), c(0, 1), c(0, 2), c(1, 2),
-                    d.dot(s.sphere.stress * Vec3::UnitZ()), s.sphere.coordination_number, static_cast<double>(s.contacts),
+                    d.dot(c * Vec3::UnitZ()), s.sphere.coordination_number, static_cast<double>(s.contacts),
                     s.mean_contact_force, s.sphere.porosity, s.kinetic_energy, stage_ >= ShearStage::Consolidated ? inertial_number() : 0.0});
   history_.save(out_dir_ / "history.csv");
 }

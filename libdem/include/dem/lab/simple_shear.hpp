@@ -4,12 +4,14 @@
 // several directions while the top plate keeps the vertical stress (drained) or the height
 // (constant volume). Apps drive it; a calibration runs many shears from one consolidated state.
 //
-// Kinematics (MODEL.md 8): the top plate is held horizontally, the bottom plate moves along -d
-// for a leg of direction d, so the top moves by +d relative to the bottom: shear strain
-// gamma = (u_top - u_bottom)_horizontal / H_c, with H_c the height after consolidation. Shear
-// stress is the horizontal force of the top plate on the sand over the specimen area, positive
-// along the shear. Principal stresses and their rotation come from a measurement sphere at
-// mid-height, which follows the mean horizontal displacement of the specimen.
+// Kinematics (MODEL.md 8; the study's convention): the top plate is held horizontally and the
+// bottom plate moves along the shear direction d of the current leg: shear strain
+// gamma = (u_bottom - u_top)_horizontal / H_c, with H_c the height after consolidation. Shear
+// stress is the horizontal force the sand puts on the top plate over the specimen area, positive
+// along the shear. The major principal stress then tilts from vertical towards +d, and contact
+// forces rotate towards 45 deg from +d in the d-z plane, as the study's figures show. Principal
+// stresses and their rotation come from a measurement sphere at mid-height, which follows the
+// mean horizontal displacement of the specimen.
 //
 // Runs are steps in chunks of `chunk_steps`; outputs and restart files are written only between
 // chunks, so a run resumed from a restart file repeats the uninterrupted run exactly.

@@ -25,8 +25,8 @@ struct ContactTypeConfig {
   double shear_damping_ratio = 0.0;  // -, beta_s
 };
 
-/// One leg of the shear path: the bottom plate moves so that the top moves relative to it along
-/// `direction_deg` (from +x towards +y) by `strain` x the consolidated height.
+/// One leg of the shear path: the bottom plate moves along `direction_deg` (from +x towards +y)
+/// by `strain` x the consolidated height.
 struct ShearLeg {
   double direction_deg = 0.0;  // deg
   double strain = 0.0;         // -, shear strain increment of this leg
