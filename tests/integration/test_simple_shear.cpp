@@ -95,7 +95,7 @@ TEST_CASE("simple shear: a reduced specimen runs end to end with consistent outp
   CHECK(s.at("inertial_number").as_number() == Approx(1e-3).epsilon(1e-9));
 }
 
-TEST_CASE("simple shear: same seed, same history; a resumed run equals the uninterrupted one", "[simple-shear]") {
+TEST_CASE("simple shear: same seed gives the same history, and a resumed run equals the uninterrupted one", "[simple-shear]") {
   const io::Config c = small_config();
   const fs::path a = fresh_dir("a"), b = fresh_dir("b"), resumed = fresh_dir("resumed");
   std::ostringstream log;

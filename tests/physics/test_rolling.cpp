@@ -10,7 +10,7 @@
 using namespace dem;
 using namespace dem::testing;
 
-TEST_CASE("rolling-linear law: moment grows as kr theta up to mu_r Rbar Fn; twist is free", "[physics][contact]") {
+TEST_CASE("rolling-linear law: moment grows as kr theta up to mu_r Rbar Fn, twist is free", "[physics][contact]") {
   auto p = RollingLinearLaw::Params::deformable(modulus_ball, 1.0, 0.5, 0.18);
   ContactKinematics k{};
   k.normal = Vec3::UnitX();

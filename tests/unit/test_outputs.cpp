@@ -356,7 +356,7 @@ TEST_CASE("fabric log: rows hold the known bins, forces and totals of hand-built
   CHECK(std::stod(first_xy[11]) == roses[1].a_n);
 }
 
-TEST_CASE("fabric log: a state without contacts leaves the fits empty; bad input is refused", "[outputs]") {
+TEST_CASE("fabric log: a state without contacts leaves the fits empty, bad input is refused", "[outputs]") {
   TempDir dir("fabric_empty");
   World world(dynamic_settings(1e-7));
   world.add_ball(fixed_ball(Vec3::Zero()));
@@ -499,7 +499,7 @@ TEST_CASE("snapshots: files hold the known balls, contacts, walls and pebbles", 
   CHECK(index[1] == "consolidated,0.5,0,13,5");
 }
 
-TEST_CASE("snapshots: displacements follow ball ids across re-sorting; pvd lists the series", "[outputs]") {
+TEST_CASE("snapshots: displacements follow ball ids across re-sorting, pvd lists the series", "[outputs]") {
   TempDir dir("snap_move");
   SnapshotScene scene;
   World& world = scene.world;

@@ -267,6 +267,9 @@ void SimpleShearTest::shear() {
     const FacetWall& bottom = world_->wall(bottom_);
     previous_relative_ = bottom.displacement - top.displacement;
     previous_relative_.z() = 0.0;
+    // The row at zero strain was written after consolidation; the interval is this run's (a
+    // specimen consolidated by another run may have used another one).
+    next_output_strain_ = config_.output_every_strain;
     start_leg();
     log_ << "shear: rate " << shear_rate() << " 1/s, inertial number " << inertial_number() << ", "
          << (config_.constant_volume ? "constant volume" : "drained") << ", " << config_.legs.size() << " leg(s) to "
