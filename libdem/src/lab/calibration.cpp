@@ -1,0 +1,701 @@
+// Calibration: configuration keys, the staged searches and their bookkeeping (Calibration), and
+// the command line of dem-calibrate. The specimen and its shears are in calibration_trials.cpp,
+// the searches themselves in calibration_search.cpp.
+#include <dem/lab/calibration.hpp>
+
+#include <boost/program_options.hpp>
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <exception>
+#include <fstream>
+#include <iomanip>
+#include <mutex>
+#include <ostream>
+#include <sstream>
+
+#include <dem/core/errors.hpp>
+#include <dem/io/atomic_file.hpp>
+#include <dem/io/csv.hpp>
+#include <dem/io/json.hpp>
+
+namespace fs = std::filesystem;
+namespace po = boost::program_options;
+
+namespace dem::lab {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+std::string short_number(double v, int digits = 4) {
+  std::ostringstream out;
+  out.precision(digits);
+  out << v;
+  return out.str();
+}
+
+std::string describe(const ContactFit& f) {
+  return "E* = " + short_number(f.effective_modulus) + " Pa, mu = " + short_number(f.friction) + ", mu_r = " +
+         short_number(f.rolling_friction);
+}
+
+// FNV-1a of a file's bytes: a stable fingerprint of the lab curve and a --from restart.
+std::string file_hash(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::uint64_t h = 14695981039346656037ull;
+  char buffer[1 << 16];
+  while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
+    for (std::streamsize i = 0; i < in.gcount(); ++i) {
+      h ^= static_cast<unsigned char>(buffer[i]);
+      h *= 1099511628211ull;
+    }
+    if (!in) break;
+  }
+  std::ostringstream out;
+  out << std::hex << std::setw(16) << std::setfill('0') << h;
+  return out.str();
+}
+
+std::string text_of(const io::Config& c, const io::KeySpec& spec) {
+  switch (spec.type) {
+    case io::ValueType::Real: return detail::exact_text(c.real(spec.key));
+    case io::ValueType::Integer: return std::to_string(c.integer(spec.key));
+    case io::ValueType::Boolean: return c.boolean(spec.key) ? "true" : "false";
+    case io::ValueType::Text: return c.text(spec.key);
+    case io::ValueType::RealList: {
+      std::string out;
+      for (double v : c.real_list(spec.key)) out += (out.empty() ? "" : ",") + detail::exact_text(v);
+      return out;
+    }
+  }
+  return {};
+}
+
+const std::vector<std::string> trial_columns = {
+    "trial", "stage", "effective_modulus", "friction", "rolling_friction", "shear_stress_rd_max_percent",
+    "shear_stress_rd_mean_percent", "volumetric_strain_rd_max_percent", "volumetric_strain_rd_mean_percent",
+    "shear_stress_points_used", "shear_stress_points_skipped", "volumetric_strain_points_used",
+    "volumetric_strain_points_skipped", "model_initial_slope_Pa", "model_peak_shear_stress_Pa", "seconds"};
+
+const char* const stage_names[] = {"outside the searches", "1 (E*, initial slope)", "2 (mu, peak)", "3 (mu_r, peak)",
+                                   "4 (mu and mu_r, whole curve)"};
+
+}  // namespace
+
+// ------------------------------------------------------------------------- configuration
+
+io::Schema calibration_schema() {
+  io::Schema s = simple_shear_schema();
+  using io::ValueType;
+  s.add({.key = "calibration.effective_modulus_min", .default_value = "1e6", .unit = "Pa", .help = "lower bound of E* (ball-ball)", .min = 0.0, .min_exclusive = true});
+  s.add({.key = "calibration.effective_modulus_max", .default_value = "1e10", .unit = "Pa", .help = "upper bound of E* (ball-ball)", .min = 0.0, .min_exclusive = true});
+  s.add({.key = "calibration.friction_min", .default_value = "0.01", .unit = "-", .help = "lower bound of mu (ball-ball)", .min = 0.0});
+  s.add({.key = "calibration.friction_max", .default_value = "2", .unit = "-", .help = "upper bound of mu (ball-ball)", .min = 0.0});
+  s.add({.key = "calibration.rolling_friction_min", .default_value = "0", .unit = "-", .help = "lower bound of mu_r (ball-ball)", .min = 0.0});
+  s.add({.key = "calibration.rolling_friction_max", .default_value = "1", .unit = "-", .help = "upper bound of mu_r (ball-ball)", .min = 0.0});
+  s.add({.key = "calibration.max_trials_per_stage", .type = ValueType::Integer, .default_value = "8", .unit = "-",
+         .help = "largest number of trials of one stage (reused ones count)", .min = 1.0, .max = 1000.0});
+  s.add({.key = "calibration.cycles", .type = ValueType::Integer, .default_value = "3", .unit = "-",
+         .help = "passes of stages 1-3 before stage 4 (the study: 1); a pass that changes nothing ends them", .min = 1.0, .max = 10.0});
+  s.add({.key = "calibration.batch_size", .type = ValueType::Integer, .default_value = "2", .unit = "-",
+         .help = "trials per round of the stage 1-3 searches; the results do not depend on --parallel-trials, they do on this", .min = 1.0, .max = 64.0});
+  s.add({.key = "calibration.tolerance", .default_value = "0.01", .unit = "-",
+         .help = "relative mismatch of initial slope (stage 1) or peak (stages 2, 3) that ends the stage", .min = 0.0, .max = 1.0, .min_exclusive = true});
+  s.add({.key = "calibration.slope_stress_fraction", .default_value = "0.3", .unit = "-",
+         .help = "initial slope: least squares through the origin on the lab points up to the strain where the stress first reaches this fraction of the lab peak", .min = 0.0, .max = 1.0, .min_exclusive = true});
+  s.add({.key = "calibration.polish_step", .default_value = "0.1", .unit = "-", .help = "first step of stage 4, relative to mu and mu_r", .min = 0.0, .max = 1.0, .min_exclusive = true});
+  s.add({.key = "calibration.polish_min_step", .default_value = "0.02", .unit = "-", .help = "stage 4 ends when its relative step is below this", .min = 0.0, .max = 1.0, .min_exclusive = true});
+  s.add({.key = "calibration.volumetric_weight", .default_value = "0", .unit = "-",
+         .help = "stage 4 minimises mean RD(shear stress) + this x mean RD(volumetric strain)", .min = 0.0});
+  s.add({.key = "calibration.eps_stress", .default_value = "1000", .unit = "Pa", .help = "lab shear stresses with |value| below this are skipped by the relative difference", .min = 0.0});
+  s.add({.key = "calibration.eps_strain", .default_value = "1e-4", .unit = "-", .help = "lab volumetric strains with |value| below this are skipped by the relative difference", .min = 0.0});
+  return s;
+}
+
+CalibrationSettings calibration_settings(const io::Config& c) {
+  CalibrationSettings s;
+  s.modulus_min = c.real("calibration.effective_modulus_min");
+  s.modulus_max = c.real("calibration.effective_modulus_max");
+  s.friction_min = c.real("calibration.friction_min");
+  s.friction_max = c.real("calibration.friction_max");
+  s.rolling_min = c.real("calibration.rolling_friction_min");
+  s.rolling_max = c.real("calibration.rolling_friction_max");
+  require(s.modulus_min < s.modulus_max, "calibration.effective_modulus_max", s.modulus_max, "> calibration.effective_modulus_min = " + detail::exact_text(s.modulus_min));
+  require(s.friction_min < s.friction_max, "calibration.friction_max", s.friction_max, "> calibration.friction_min = " + detail::exact_text(s.friction_min));
+  require(s.rolling_min < s.rolling_max, "calibration.rolling_friction_max", s.rolling_max, "> calibration.rolling_friction_min = " + detail::exact_text(s.rolling_min));
+  s.max_trials_per_stage = static_cast<int>(c.integer("calibration.max_trials_per_stage"));
+  s.batch_size = static_cast<int>(c.integer("calibration.batch_size"));
+  s.cycles = static_cast<int>(c.integer("calibration.cycles"));
+  s.tolerance = c.real("calibration.tolerance");
+  s.slope_stress_fraction = c.real("calibration.slope_stress_fraction");
+  s.polish_step = c.real("calibration.polish_step");
+  s.polish_min_step = c.real("calibration.polish_min_step");
+  require(s.polish_min_step <= s.polish_step, "calibration.polish_min_step", s.polish_min_step, "<= calibration.polish_step = " + detail::exact_text(s.polish_step));
+  s.volumetric_weight = c.real("calibration.volumetric_weight");
+  s.comparison.eps_stress = c.real("calibration.eps_stress");
+  s.comparison.eps_strain = c.real("calibration.eps_strain");
+  return s;
+}
+
+void parse_fit_list(const std::string& list, CalibrationSettings& s) {
+  s.fit_modulus = s.fit_friction = s.fit_rolling = false;
+  std::istringstream in(list);
+  for (std::string word; std::getline(in, word, ',');) {
+    if (word == "emod") s.fit_modulus = true;
+    else if (word == "friction") s.fit_friction = true;
+    else if (word == "rolling") s.fit_rolling = true;
+    else throw InputError("--fit = " + list + ": '" + word + "' is not a parameter: must be a comma-separated list of emod, friction, rolling");
+  }
+  require(s.fit_modulus || s.fit_friction || s.fit_rolling, "--fit", "\"" + list + "\"", "at least one of emod, friction, rolling");
+}
+
+io::Config shear_config_with(const io::Config& config, const ContactFit& fit) {
+  const io::Schema shear = simple_shear_schema();
+  io::Config out(shear);
+  for (const io::KeySpec& spec : shear.keys()) out.set(spec.key, text_of(config, spec));
+  out.set("ball_ball.effective_modulus", detail::exact_text(fit.effective_modulus));
+  out.set("ball_ball.friction", detail::exact_text(fit.friction));
+  out.set("ball_ball.rolling_friction", detail::exact_text(fit.rolling_friction));
+  return out;
+}
+
+// ------------------------------------------------------------------------- Calibration
+
+struct Calibration::Progress {
+  std::mutex mutex;
+  Clock::time_point start = Clock::now();
+  int asked = 0;           // trials the searches asked for in this run
+  int max_trials = 0;      // upper bound of `asked`
+  int new_trials = 0;      // run now
+  double new_seconds = 0;  // s, their total wall clock
+  int stage = 0;
+  ContactFit current;      // the searches' best so far
+  std::vector<TrialResult> session;  // trials asked for in this run, in order
+};
+
+Calibration::Calibration(io::Config config, CalibrationSettings settings, LabCurve lab, fs::path out_dir, fs::path from,
+                         std::ostream& log)
+    : config_(std::move(config)), settings_(settings), lab_(std::move(lab)), out_dir_(std::move(out_dir)), log_(log),
+      progress_(std::make_unique<Progress>()) {
+  require(settings_.threads >= 1, "--threads", settings_.threads, ">= 1");
+  require(settings_.parallel_trials >= 1, "--parallel-trials", settings_.parallel_trials, ">= 1");
+  start_ = {config_.real("ball_ball.effective_modulus"), config_.real("ball_ball.friction"), config_.real("ball_ball.rolling_friction")};
+  auto within = [](const std::string& key, double v, double lo, double hi, const std::string& bounds) {
+    require(v >= lo && v <= hi, key, v, "within [" + detail::exact_text(lo) + ", " + detail::exact_text(hi) + "] (" + bounds + ")");
+  };
+  within("ball_ball.effective_modulus", start_.effective_modulus, settings_.modulus_min, settings_.modulus_max, "calibration.effective_modulus_min/max");
+  within("ball_ball.friction", start_.friction, settings_.friction_min, settings_.friction_max, "calibration.friction_min/max");
+  within("ball_ball.rolling_friction", start_.rolling_friction, settings_.rolling_min, settings_.rolling_max, "calibration.rolling_friction_min/max");
+
+  // The lab curve must be usable by every stage before any simulation starts.
+  require(lab_.size() >= 2, "lab curve " + lab_.file.string() + " points", lab_.size(), ">= 2");
+  require(std::any_of(lab_.shear_stress.begin(), lab_.shear_stress.end(), [&](double t) { return std::abs(t) >= settings_.comparison.eps_stress && t != 0; }),
+          "lab curve " + lab_.file.string() + " largest |shear stress| (Pa)", peak_value(lab_.shear_stress), ">= eps_stress = " + detail::exact_text(settings_.comparison.eps_stress));
+  slope_limit_ = slope_strain_limit(lab_, settings_.slope_stress_fraction);
+  lab_slope_ = initial_slope(lab_, lab_.shear_stress, slope_limit_);
+  lab_peak_ = peak_value(lab_.shear_stress);
+  require(lab_slope_ > 0, "lab curve " + lab_.file.string() + " initial slope (Pa)", lab_slope_, "> 0");
+  SimpleShearConfig shear = simple_shear_config(config_);
+  target_strain_ = lab_.max_strain() * 1.001;  // the last lab point lies inside the model curve
+  // History rows of a trial: at least 50 over the lab's strain range.
+  shear.output_every_strain = std::min(shear.output_every_strain, lab_.max_strain() / 50.0);
+
+  fs::create_directories(out_dir_);
+  const std::string setup = setup_text() + "from " + (from.empty() ? std::string("none") : file_hash(from)) + "\n";
+  const fs::path setup_file = out_dir_ / "setup.txt";
+  std::string old_setup;
+  if (fs::exists(setup_file)) {
+    std::ifstream in(setup_file);
+    std::stringstream text;
+    text << in.rdbuf();
+    old_setup = text.str();
+  }
+  if (!old_setup.empty() && old_setup != setup) {
+    if (fs::exists(out_dir_ / "trials.csv")) {
+      std::istringstream a(old_setup), b(setup);
+      std::string la, lb;
+      while (std::getline(a, la) && std::getline(b, lb) && la == lb) {
+      }
+      throw InputError("--out " + out_dir_.string() + " holds the trials of another calibration set-up (setup.txt has '" + la +
+                       "', this run '" + lb + "'): must be a new folder, or remove its trials.csv");
+    }
+    // No finished trial: the specimens of the other set-up are of no use.
+    fs::remove_all(out_dir_ / "specimen");
+    fs::remove_all(out_dir_ / "trials");
+  }
+  if (fs::exists(out_dir_ / "trials.csv")) {
+    require(old_setup == setup, (out_dir_ / "setup.txt").string(), "(missing)", "present beside trials.csv (written by dem-calibrate)");
+    load_trials();
+    log_ << "resuming: " << trials_.size() << " finished trial(s) in " << (out_dir_ / "trials.csv").string() << "\n";
+  }
+  io::write_atomically(setup_file, [&](std::ostream& out) { out << setup; });
+  shears_ = std::make_unique<ShearTrials>(std::move(shear), out_dir_, from, settings_.fit_modulus, log_);
+}
+
+Calibration::~Calibration() = default;
+
+// What a trial's result depends on, other than its three parameters: the lab curve and the
+// protocol (threads, progress and output lists do not change a trial).
+std::string Calibration::setup_text() const {
+  std::ostringstream out;
+  out << "lab " << file_hash(lab_.file) << " max_strain " << detail::exact_text(lab_.max_strain()) << "\n"
+      << "eps_stress " << detail::exact_text(settings_.comparison.eps_stress) << " eps_strain " << detail::exact_text(settings_.comparison.eps_strain)
+      << " slope_stress_fraction " << detail::exact_text(settings_.slope_stress_fraction) << "\n";
+  std::istringstream ini(shear_config_with(config_, start_).to_ini());
+  for (std::string line; std::getline(ini, line);) {
+    if (line.empty() || line.front() == '#') continue;
+    bool skip = false;
+    for (const char* key : {"threads =", "progress_seconds =", "fabric_strains =", "snapshot_strains =", "restart_every_steps ="})
+      skip = skip || line.rfind(key, 0) == 0;
+    if (!skip) out << line << "\n";
+  }
+  return out.str();
+}
+
+void Calibration::load_trials() {
+  const fs::path file = out_dir_ / "trials.csv";
+  const io::CsvData data = io::read_csv(file);
+  require(data.columns == trial_columns, file.string() + " columns", data.columns.size(), "the columns dem-calibrate writes");
+  for (const auto& row : data.rows) {
+    TrialResult t;
+    t.trial = static_cast<int>(row[0]);
+    t.stage = static_cast<int>(row[1]);
+    t.fit = {row[2], row[3], row[4]};
+    t.stress_rd_max = row[5], t.stress_rd_mean = row[6], t.volumetric_rd_max = row[7], t.volumetric_rd_mean = row[8];
+    t.stress_points_used = row[9], t.stress_points_skipped = row[10];
+    t.volumetric_points_used = row[11], t.volumetric_points_skipped = row[12];
+    t.model_slope = row[13], t.model_peak = row[14], t.seconds = row[15];
+    trials_.push_back(t);
+  }
+  std::sort(trials_.begin(), trials_.end(), [](const TrialResult& a, const TrialResult& b) { return a.trial < b.trial; });
+}
+
+void Calibration::save_trials() const {
+  io::CsvTable table(trial_columns);
+  for (const TrialResult& t : trials_)
+    table.add_row({static_cast<double>(t.trial), static_cast<double>(t.stage), t.fit.effective_modulus, t.fit.friction,
+                   t.fit.rolling_friction, t.stress_rd_max, t.stress_rd_mean, t.volumetric_rd_max, t.volumetric_rd_mean,
+                   t.stress_points_used, t.stress_points_skipped, t.volumetric_points_used, t.volumetric_points_skipped,
+                   t.model_slope, t.model_peak, t.seconds});
+  table.save(out_dir_ / "trials.csv");
+}
+
+TrialResult Calibration::measure(const ContactFit& fit, const ModelCurve& model, int number, int stage, double seconds) const {
+  const CurveComparison c = compare_curves(lab_, model, settings_.comparison);
+  TrialResult t;
+  t.trial = number;
+  t.stage = stage;
+  t.fit = fit;
+  t.stress_rd_max = c.stress.max_percent;
+  t.stress_rd_mean = c.stress.mean_percent;
+  t.stress_points_used = static_cast<double>(c.stress.points_used);
+  t.stress_points_skipped = static_cast<double>(c.stress.points_skipped);
+  if (c.volumetric) {
+    t.volumetric_rd_max = c.volumetric->max_percent;
+    t.volumetric_rd_mean = c.volumetric->mean_percent;
+    t.volumetric_points_used = static_cast<double>(c.volumetric->points_used);
+    t.volumetric_points_skipped = static_cast<double>(c.volumetric->points_skipped);
+  } else if (lab_.has_volumetric()) {
+    t.volumetric_points_skipped = static_cast<double>(lab_.size());
+  }
+  t.model_slope = initial_slope(lab_, c.model_stress, slope_limit_);
+  t.model_peak = peak_value(c.model_stress);
+  t.seconds = seconds;
+  return t;
+}
+
+double Calibration::objective(const TrialResult& t) const {
+  return t.stress_rd_mean + settings_.volumetric_weight * std::max(0.0, t.volumetric_rd_mean);
+}
+
+std::vector<TrialResult> Calibration::evaluate(const std::vector<ContactFit>& batch, int stage) {
+  Progress& p = *progress_;
+  std::vector<TrialResult> out(batch.size());
+  std::vector<bool> ready(batch.size(), false);
+  std::vector<std::size_t> todo;
+  int next_number = trials_.empty() ? 1 : trials_.back().trial + 1;
+  std::vector<int> numbers(batch.size(), 0);
+  for (std::size_t i = 0; i < batch.size(); ++i) {
+    const auto cached = std::find_if(trials_.begin(), trials_.end(), [&](const TrialResult& t) { return t.fit == batch[i]; });
+    if (cached != trials_.end()) {
+      out[i] = *cached;
+      ready[i] = true;
+    } else if (std::none_of(todo.begin(), todo.end(), [&](std::size_t j) { return batch[j] == batch[i]; })) {
+      todo.push_back(i);
+      numbers[i] = next_number++;
+    }
+  }
+  const int threads = std::max(1, settings_.threads / settings_.parallel_trials);
+  std::vector<double> moduli;
+  for (std::size_t i : todo) moduli.push_back(batch[i].effective_modulus);
+  const std::vector<double> prepare_seconds = shears_->prepare(moduli, settings_.parallel_trials, threads);
+
+  auto report = [&](const TrialResult& t, bool reused) {
+    ++p.asked;
+    const double per_trial = p.new_trials > 0 ? p.new_seconds / p.new_trials : 0.0;
+    const double left = per_trial * std::max(0, p.max_trials - p.asked) / settings_.parallel_trials;
+    const auto best = std::find_if(trials_.begin(), trials_.end(), [&](const TrialResult& x) { return x.fit == p.current; });
+    std::ostringstream line;
+    line << "trial " << p.asked << " of at most " << p.max_trials << ", stage " << stage_names[stage] << (reused ? ", reused" : "")
+         << ": " << describe(t.fit) << ", mean RD " << short_number(t.stress_rd_mean, 3) << " %";
+    if (best != trials_.end())
+      line << " | best so far: " << describe(best->fit) << ", mean RD " << short_number(best->stress_rd_mean, 3) << " %";
+    line << " | time left <= " << short_number(left / 60.0, 2) << " min (estimate)";
+    log_ << line.str() << std::endl;
+  };
+  for (std::size_t i = 0; i < batch.size(); ++i)
+    if (ready[i]) report(out[i], true);
+
+  detail::run_parallel(todo.size(), settings_.parallel_trials, [&](std::size_t k) {
+    const std::size_t i = todo[k];
+    const auto t0 = Clock::now();
+    ModelCurve model;
+    try {
+      model = shears_->shear(batch[i], target_strain_, numbers[i], threads);
+    } catch (const InputError& e) {
+      throw InputError("trial " + std::to_string(numbers[i]) + " (" + describe(batch[i]) + "): " + e.what());
+    } catch (const std::exception& e) {
+      throw std::runtime_error("trial " + std::to_string(numbers[i]) + " (" + describe(batch[i]) + "): " + e.what());
+    }
+    const TrialResult t = measure(batch[i], model, numbers[i], stage, seconds_since(t0) + prepare_seconds[k]);
+    const std::lock_guard<std::mutex> lock(p.mutex);
+    const auto at = std::lower_bound(trials_.begin(), trials_.end(), t.trial, [](const TrialResult& x, int n) { return x.trial < n; });
+    trials_.insert(at, t);
+    save_trials();
+    ++p.new_trials;
+    p.new_seconds += t.seconds;
+    out[i] = t;
+    ready[i] = true;
+    report(t, false);
+  });
+  for (std::size_t i = 0; i < batch.size(); ++i)
+    if (!ready[i])  // the same parameters twice in one batch
+      out[i] = *std::find_if(trials_.begin(), trials_.end(), [&](const TrialResult& t) { return t.fit == batch[i]; });
+  for (const TrialResult& t : out) p.session.push_back(t);
+  return out;
+}
+
+CurveComparison Calibration::comparison(const TrialResult& trial) {
+  std::optional<ModelCurve> model = shears_->stored_curve(trial.trial);
+  if (!model) {
+    const int threads = std::max(1, settings_.threads);
+    shears_->prepare({trial.fit.effective_modulus}, 1, threads);
+    model = shears_->shear(trial.fit, target_strain_, trial.trial, threads);
+  }
+  return compare_curves(lab_, *model, settings_.comparison);
+}
+
+CalibrationResult Calibration::run() {
+  const auto t0 = Clock::now();
+  Progress& p = *progress_;
+  const CalibrationSettings& s = settings_;
+  const bool polish = s.fit_friction || s.fit_rolling;
+  p.max_trials = s.max_trials_per_stage * (s.cycles * (int(s.fit_modulus) + int(s.fit_friction) + int(s.fit_rolling)) + int(polish));
+  p.current = start_;
+  CalibrationResult result;
+  int cycle = 1;
+  log_ << "lab curve: " << lab_.size() << " points to shear strain " << short_number(lab_.max_strain()) << ", peak "
+       << short_number(lab_peak_ / 1e3) << " kPa, initial slope " << short_number(lab_slope_ / 1e6) << " MPa (up to strain "
+       << short_number(slope_limit_) << ")\n";
+
+  // Stages 1-3: make one feature of the model match the lab by moving one parameter.
+  auto root_stage = [&](int stage, double ContactFit::*member, bool log_scale, double lo, double hi, double first_step,
+                        double max_step, double slope_guess, const std::function<double(const TrialResult&)>& mismatch) {
+    p.stage = stage;
+    auto to_u = [&](double v) { return log_scale ? std::log(v) : v; };
+    RootSearch::Settings rs;
+    rs.start = to_u(p.current.*member);
+    rs.lower = to_u(lo);
+    rs.upper = to_u(hi);
+    rs.first_step = first_step;
+    rs.max_step = max_step;
+    rs.slope_guess = slope_guess;
+    rs.tolerance = s.tolerance;
+    rs.u_tolerance = 0.2 * s.tolerance * (log_scale ? 1.0 : std::max(p.current.*member, 0.05));
+    rs.batch_size = s.batch_size;
+    rs.max_evaluations = s.max_trials_per_stage;
+    RootSearch search(rs);
+    std::vector<std::pair<double, double>> values;  // (u, parameter value): exp(log(v)) need not be v
+    // Trials of this run that differ from the current parameters in this one only.
+    for (const TrialResult& t : p.session) {
+      ContactFit f = t.fit;
+      f.*member = p.current.*member;
+      if (f == p.current && std::none_of(values.begin(), values.end(), [&](const auto& v) { return v.second == t.fit.*member; })) {
+        search.seed(to_u(t.fit.*member), mismatch(t));
+        values.emplace_back(to_u(t.fit.*member), t.fit.*member);
+      }
+    }
+    for (std::vector<double> us = search.propose(); !us.empty(); us = search.propose()) {
+      std::vector<ContactFit> batch;
+      for (double u : us) {
+        ContactFit f = p.current;
+        f.*member = std::clamp(log_scale ? std::exp(u) : u, lo, hi);
+        batch.push_back(f);
+        values.emplace_back(u, f.*member);
+      }
+      const std::vector<TrialResult> results = evaluate(batch, stage);
+      std::vector<double> g;
+      for (const TrialResult& t : results) g.push_back(mismatch(t));
+      search.tell(us, g);
+      const double best_u = search.best();
+      for (const auto& [u, v] : values)
+        if (u == best_u) p.current.*member = v;
+    }
+    const double best_u = search.best();
+    for (const auto& [u, v] : values)
+      if (u == best_u) p.current.*member = v;
+    result.stage_notes.push_back((s.cycles > 1 ? "cycle " + std::to_string(cycle) + ", " : std::string()) + "stage " +
+                                 std::string(stage_names[stage]) + ": " + describe(p.current) + ", mismatch " +
+                                 short_number(search.best_value(), 3) + " after " + std::to_string(search.evaluations()) +
+                                 " trial(s); " + search.reason());
+    log_ << result.stage_notes.back() << std::endl;
+  };
+  const double lab_slope = lab_slope_, lab_peak = lab_peak_;
+  auto slope_mismatch = [lab_slope](const TrialResult& t) { return std::log(std::max(t.model_slope, 1e-6 * lab_slope) / lab_slope); };
+  auto peak_mismatch = [lab_peak](const TrialResult& t) { return t.model_peak / lab_peak - 1.0; };
+  // Steps: E* by factors of 2 (over the first per cent of strain a granular specimen's stress
+  // grows only like E*^0.3-0.6, part of it being plastic already); mu and mu_r by a third of
+  // their value (the peak changes by several % over such a step).
+  // Cycles: the initial slope also depends on mu (a few % between mu = 0.3 and 0.5), so a
+  // second pass re-fits E* with the mu of the first and mu with that E*; it starts from the
+  // trials of the first and stops as soon as a pass changes nothing.
+  for (cycle = 1; cycle <= s.cycles; ++cycle) {
+    const ContactFit before = p.current;
+    if (s.fit_modulus)
+      root_stage(1, &ContactFit::effective_modulus, true, s.modulus_min, s.modulus_max, std::log(2.0), std::log(4.0), 0.5,
+                 slope_mismatch);
+    if (s.fit_friction)
+      root_stage(2, &ContactFit::friction, false, s.friction_min, s.friction_max, std::max(0.33 * p.current.friction, 0.05),
+                 std::max(0.5 * p.current.friction, 0.1), 0.3, peak_mismatch);
+    if (s.fit_rolling)
+      root_stage(3, &ContactFit::rolling_friction, false, s.rolling_min, s.rolling_max,
+                 std::max(0.33 * p.current.rolling_friction, 0.05), std::max(0.5 * p.current.rolling_friction, 0.1), 0.3,
+                 peak_mismatch);
+    if (p.current == before) break;
+  }
+
+  // Stage 4: compass search of the fitted ones among mu and mu_r on the whole curve.
+  if (polish) {
+    p.stage = 4;
+    auto session_trial = [&](const ContactFit& f) -> std::optional<TrialResult> {
+      for (const TrialResult& t : p.session)
+        if (t.fit == f) return t;
+      return std::nullopt;
+    };
+    std::optional<TrialResult> centre = session_trial(p.current);
+    if (!centre) centre = evaluate({p.current}, 4).front();
+    std::vector<double ContactFit::*> members;
+    std::vector<double> lo, hi;
+    if (s.fit_friction) members.push_back(&ContactFit::friction), lo.push_back(s.friction_min), hi.push_back(s.friction_max);
+    if (s.fit_rolling) members.push_back(&ContactFit::rolling_friction), lo.push_back(s.rolling_min), hi.push_back(s.rolling_max);
+    PatternSearch::Settings ps;
+    ps.start_value = objective(*centre);
+    ps.lower = lo;
+    ps.upper = hi;
+    for (std::size_t d = 0; d < members.size(); ++d) {
+      const double v = p.current.*members[d];
+      const double scale = v > 0 ? v : 0.5 * (hi[d] - lo[d]);
+      ps.start.push_back(v);
+      ps.step.push_back(s.polish_step * scale);
+      ps.min_step.push_back(s.polish_min_step * scale);
+    }
+    ps.max_evaluations = s.max_trials_per_stage;
+    PatternSearch search(ps);
+    for (auto xs = search.propose(); !xs.empty(); xs = search.propose()) {
+      std::vector<ContactFit> batch;
+      for (const auto& x : xs) {
+        ContactFit f = p.current;
+        for (std::size_t d = 0; d < members.size(); ++d) f.*members[d] = x[d];
+        batch.push_back(f);
+      }
+      const std::vector<TrialResult> results = evaluate(batch, 4);
+      std::vector<double> f;
+      for (const TrialResult& t : results) f.push_back(objective(t));
+      search.tell(xs, f);
+      for (std::size_t d = 0; d < members.size(); ++d) p.current.*members[d] = search.best()[d];
+    }
+    result.stage_notes.push_back("stage " + std::string(stage_names[4]) + ": " + describe(p.current) + ", objective " +
+                                 short_number(search.best_value(), 3) + " % after " + std::to_string(search.evaluations()) +
+                                 " trial(s); " + search.reason());
+    log_ << result.stage_notes.back() << std::endl;
+  }
+
+  result.best = p.current;
+  const auto best = std::find_if(p.session.begin(), p.session.end(), [&](const TrialResult& t) { return t.fit == p.current; });
+  result.best_trial = best != p.session.end() ? *best : evaluate({p.current}, 0).front();
+  result.trials = p.asked;
+  result.new_trials = p.new_trials;
+  result.seconds = seconds_since(t0);
+  write_outputs(result);
+  return result;
+}
+
+void Calibration::write_outputs(const CalibrationResult& result) {
+  const TrialResult& best = result.best_trial;
+  const CurveComparison c = comparison(best);
+
+  std::vector<std::string> columns = {"shear_strain", "lab_shear_stress_Pa", "model_shear_stress_Pa", "shear_stress_rd_percent"};
+  if (lab_.has_volumetric())
+    for (const char* name : {"lab_volumetric_strain", "model_volumetric_strain", "volumetric_strain_rd_percent"}) columns.emplace_back(name);
+  io::CsvTable table(columns);
+  for (std::size_t k = 0; k < lab_.size(); ++k) {
+    std::vector<double> row = {lab_.shear_strain[k], lab_.shear_stress[k], c.model_stress[k], c.stress_rd_percent[k]};
+    if (lab_.has_volumetric())
+      row.insert(row.end(), {lab_.volumetric_strain[k], c.model_volumetric[k], c.volumetric_rd_percent[k]});
+    table.add_row(row);
+  }
+  table.save(out_dir_ / "comparison.csv");
+
+  const io::Config calibrated = shear_config_with(config_, result.best);
+  io::write_atomically(out_dir_ / "calibrated.ini", [&](std::ostream& out) {
+    out << "# dem-calibrate: ball_ball parameters fitted to " << lab_.file.string() << " (trial " << best.trial
+        << ", mean RD of shear stress " << short_number(best.stress_rd_mean, 3) << " %)\n"
+        << calibrated.to_ini();
+  });
+
+  io::Json j;
+  j["lab"]["file"] = lab_.file.string();
+  j["lab"]["points"] = lab_.size();
+  j["lab"]["max_shear_strain"] = lab_.max_strain();
+  j["lab"]["peak_shear_stress_Pa"] = lab_peak_;
+  j["lab"]["initial_slope_Pa"] = lab_slope_;
+  j["lab"]["initial_slope_up_to_strain"] = slope_limit_;
+  auto params = [](const ContactFit& f) {
+    io::Json o;
+    o["effective_modulus_Pa"] = f.effective_modulus;
+    o["friction"] = f.friction;
+    o["rolling_friction"] = f.rolling_friction;
+    return o;
+  };
+  io::Json fitted = io::Json::array();
+  if (settings_.fit_modulus) fitted.push_back("emod");
+  if (settings_.fit_friction) fitted.push_back("friction");
+  if (settings_.fit_rolling) fitted.push_back("rolling");
+  j["fitted"] = fitted;
+  j["start"] = params(start_);
+  j["best"] = params(result.best);
+  io::Json& m = j["metrics"];
+  m["trial"] = best.trial;
+  m["shear_stress_rd_max_percent"] = best.stress_rd_max;
+  m["shear_stress_rd_mean_percent"] = best.stress_rd_mean;
+  m["shear_stress_points_used"] = best.stress_points_used;
+  m["shear_stress_points_skipped"] = best.stress_points_skipped;
+  if (best.volumetric_points_used > 0) {
+    m["volumetric_strain_rd_max_percent"] = best.volumetric_rd_max;
+    m["volumetric_strain_rd_mean_percent"] = best.volumetric_rd_mean;
+  } else {
+    m["volumetric_strain_rd_max_percent"] = nullptr;
+    m["volumetric_strain_rd_mean_percent"] = nullptr;
+  }
+  m["volumetric_strain_points_used"] = best.volumetric_points_used;
+  m["volumetric_strain_points_skipped"] = best.volumetric_points_skipped;
+  m["model_initial_slope_Pa"] = best.model_slope;
+  m["model_peak_shear_stress_Pa"] = best.model_peak;
+  m["eps_stress_Pa"] = settings_.comparison.eps_stress;
+  m["eps_strain"] = settings_.comparison.eps_strain;
+  j["trials"]["asked"] = result.trials;
+  j["trials"]["new"] = result.new_trials;
+  j["trials"]["reused"] = result.trials - result.new_trials;
+  j["trials"]["in_trials_csv"] = trials_.size();
+  j["trials"]["max"] = progress_->max_trials;
+  io::Json notes = io::Json::array();
+  for (const std::string& n : result.stage_notes) notes.push_back(n);
+  j["stages"] = notes;
+  double trial_seconds = 0;
+  for (const TrialResult& t : trials_) trial_seconds += t.seconds;
+  j["seconds"] = result.seconds;
+  j["trial_seconds_all_runs"] = trial_seconds;
+  j["threads"] = settings_.threads;
+  j["parallel_trials"] = settings_.parallel_trials;
+  j["configuration"] = io::Json::parse(calibrated.to_json());
+  j.save(out_dir_ / "summary.json");
+}
+
+// ------------------------------------------------------------------------- command line
+
+std::optional<CalibrationCommandLine> parse_calibration_command_line(int argc, char** argv, std::ostream& out) {
+  po::options_description opts("Options");
+  opts.add_options()("help,h", "print this help and every configuration key")(
+      "lab", po::value<std::string>(), "laboratory curve, CSV (format below); required")(
+      "preset", po::value<std::string>()->default_value("4D"), "1D, 2D or 4D: particle-size scale and the study's Table 1 values as the start")(
+      "config,c", po::value<std::string>(), "configuration file (.ini or .json; may hold a [calibration] section)")(
+      "set,s", po::value<std::vector<std::string>>()->composing(), "override one key, e.g. --set calibration.friction_max=1 (repeatable)")(
+      "out,o", po::value<std::string>()->default_value("runs/calibration"), "output folder; run again with the same folder to resume")(
+      "fit", po::value<std::string>()->default_value("emod,friction,rolling"), "parameters to fit: comma-separated emod (E*), friction (mu), rolling (mu_r)")(
+      "from", po::value<std::string>(), "restart file of the specimen: right after generation, or consolidated (dem-consolidate; then E* cannot be fitted)")(
+      "threads", po::value<int>(), "OpenMP threads in all (default: engine.threads, or OMP_NUM_THREADS)")(
+      "parallel-trials", po::value<int>()->default_value(1), "trials run at the same time, each with threads/parallel-trials threads; results do not depend on it")(
+      "strain-percent", "strain columns of the lab CSV without a _percent suffix are in % (never guessed)")(
+      "eps-stress", po::value<double>(), "Pa: lab shear stresses with |value| below this are skipped by the relative difference (calibration.eps_stress, default 1000)")(
+      "eps-strain", po::value<double>(), "lab volumetric strains with |value| below this are skipped (calibration.eps_strain, default 1e-4)")(
+      "print-config", "print the resolved configuration (INI) and exit");
+  po::variables_map vm;
+  try {
+    po::store(po::parse_command_line(argc, argv, opts), vm);
+    po::notify(vm);
+  } catch (const po::error& e) {
+    throw InputError(std::string("command line: ") + e.what() + " (see --help)");
+  }
+  const io::Schema schema = calibration_schema();
+  if (vm.count("help")) {
+    out << "dem-calibrate: fits the ball-ball contact parameters E*, mu and mu_r so that a simulated simple-shear curve\n"
+           "matches a laboratory one, in the study's four stages: (1) E* from the initial slope of shear stress against\n"
+           "strain, (2) mu from the peak shear stress, (3) mu_r from the peak, (4) mu and mu_r together on the mean\n"
+           "relative difference of the whole curve. The specimen is generated once and consolidated once per E*; every\n"
+           "trial shears it along the first shear direction to the lab's largest strain.\n\n"
+           "Usage: dem-calibrate --lab lab.csv [--preset 4D] [--config FILE] [--set key=value ...] [--out DIR]\n"
+           "                     [--fit emod,friction,rolling] [--from FILE] [--threads N] [--parallel-trials N]\n\n"
+        << opts << "\nLab curve (--lab), CSV: " << lab_curve_columns_help
+        << "\nSpecimen: generated once (or --from), then consolidated once per E* with the starting mu and mu_r; every\n"
+           "trial of that E* loads it with its own mu and mu_r. History rows every min(output.every_strain, largest lab\n"
+           "strain / 50). Stages 1-3 are repeated calibration.cycles times (the initial slope also depends on mu).\n"
+           "\nOutputs in --out: trials.csv (one row per finished trial: stage, parameters, max/mean relative difference of\n"
+           "shear stress and volumetric strain in % (-1: no volumetric strain), initial slope and peak of the model, seconds),\n"
+           "calibrated.ini (the configuration with the best parameters, for dem-simple-shear --config), comparison.csv\n"
+           "(lab points, lab and best-model values, relative difference in %, -1 where skipped), summary.json, specimen/\n"
+           "(generated and consolidated restarts) and trials/<n>/history.csv. Relative difference: |lab - model| / |lab| on\n"
+           "the lab strain points, the model interpolated onto them (MODEL.md 8).\n"
+           "\nConfiguration keys (SI units; file sections are the part before the dot; the ball_ball values are the start):\n"
+        << schema.help_text();
+    return std::nullopt;
+  }
+  io::Config config(schema);
+  for (const auto& [key, value] : preset_values(vm["preset"].as<std::string>())) config.set(key, value);
+  if (vm.count("config")) config.load_file(vm["config"].as<std::string>());
+  if (vm.count("set"))
+    for (const std::string& assignment : vm["set"].as<std::vector<std::string>>()) config.set(assignment);
+  if (vm.count("threads")) {
+    const int threads = vm["threads"].as<int>();
+    require(threads >= 1, "--threads", threads, ">= 1");
+    config.set("engine.threads", std::to_string(threads));
+  }
+  if (vm.count("eps-stress")) config.set("calibration.eps_stress", detail::exact_text(vm["eps-stress"].as<double>()));
+  if (vm.count("eps-strain")) config.set("calibration.eps_strain", detail::exact_text(vm["eps-strain"].as<double>()));
+  if (vm.count("print-config")) {
+    out << config.to_ini();
+    return std::nullopt;
+  }
+  CalibrationSettings settings = calibration_settings(config);
+  parse_fit_list(vm["fit"].as<std::string>(), settings);
+  const long threads = config.integer("engine.threads");
+  settings.threads = threads > 0 ? static_cast<int>(threads) : std::max(1, omp_get_max_threads());
+  settings.parallel_trials = vm["parallel-trials"].as<int>();
+  require(settings.parallel_trials >= 1, "--parallel-trials", settings.parallel_trials, ">= 1");
+  require(vm.count("lab") > 0, "--lab", "(missing)", "the laboratory curve CSV (see --help)");
+  LabCurveOptions lab_options;
+  lab_options.strain_percent = vm.count("strain-percent") > 0;
+  LabCurve lab = read_lab_curve(vm["lab"].as<std::string>(), lab_options);
+  fs::path from;
+  if (vm.count("from")) {
+    from = vm["from"].as<std::string>();
+    require(fs::exists(from), "--from", from.string(), "an existing restart file");
+  }
+  return CalibrationCommandLine{std::move(config), settings, std::move(lab), vm["out"].as<std::string>(), from};
+}
+
+}  // namespace dem::lab

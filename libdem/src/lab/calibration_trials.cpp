@@ -1,0 +1,224 @@
+// The specimen of a calibration and its trial shears (ShearTrials, see calibration.hpp), and the
+// small helpers the calibration shares with it.
+#include <dem/lab/calibration.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <charconv>
+#include <chrono>
+#include <exception>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <ostream>
+#include <sstream>
+#include <thread>
+
+#include <dem/core/errors.hpp>
+#include <dem/io/csv.hpp>
+#include <dem/lab/simple_shear.hpp>
+
+namespace fs = std::filesystem;
+
+namespace dem::lab {
+namespace detail {
+
+std::string exact_text(double v) {
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, v);
+  return {buffer, result.ptr};
+}
+
+void run_parallel(std::size_t n, int workers, const std::function<void(std::size_t)>& job) {
+  if (workers <= 1 || n <= 1) {
+    for (std::size_t i = 0; i < n; ++i) job(i);
+    return;
+  }
+  std::atomic<std::size_t> next{0};
+  std::vector<std::exception_ptr> errors(n);
+  std::vector<std::thread> pool;
+  for (std::size_t w = 0; w < std::min<std::size_t>(static_cast<std::size_t>(workers), n); ++w)
+    pool.emplace_back([&] {
+      for (std::size_t i = next++; i < n; i = next++) {
+        try {
+          job(i);
+        } catch (...) {
+          errors[i] = std::current_exception();
+        }
+      }
+    });
+  for (std::thread& t : pool) t.join();
+  for (const std::exception_ptr& e : errors)
+    if (e) std::rethrow_exception(e);
+}
+
+}  // namespace detail
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// The files a SimpleShearTest reads back when it resumes from a restart written in `from`:
+// history.csv, fabric.csv and snapshots/ (hard links where possible: they are only read, and
+// every writer replaces files by renaming, which leaves the originals alone).
+void copy_run_files(const fs::path& from, const fs::path& to) {
+  fs::create_directories(to);
+  for (const char* name : {"history.csv", "fabric.csv"})
+    if (fs::exists(from / name)) fs::copy_file(from / name, to / name, fs::copy_options::overwrite_existing);
+  if (!fs::exists(from / "snapshots")) return;
+  std::error_code linked;
+  fs::copy(from / "snapshots", to / "snapshots", fs::copy_options::recursive | fs::copy_options::create_hard_links, linked);
+  if (linked) {
+    fs::remove_all(to / "snapshots");
+    fs::copy(from / "snapshots", to / "snapshots", fs::copy_options::recursive);
+  }
+}
+
+}  // namespace
+
+struct ShearTrials::Specimen {
+  fs::path restart, files;  // consolidated restart and the folder of the files it refers to
+};
+
+ShearTrials::ShearTrials(SimpleShearConfig base, fs::path out_dir, fs::path from, bool fit_modulus, std::ostream& log)
+    : base_(std::move(base)), out_dir_(std::move(out_dir)), log_(log) {
+  // Trials need neither roses nor snapshots nor periodic restarts: only the history.
+  base_.fabric_strains.clear();
+  base_.snapshot_strains.clear();
+  base_.restart_every_steps = std::numeric_limits<long>::max() / 4;
+  base_.progress_seconds = 60.0;
+  fs::create_directories(out_dir_ / "specimen");
+  generated_files_ = out_dir_ / "specimen" / "generated";
+  generated_restart_ = generated_files_ / "generated.restart";
+  if (from.empty()) return;
+
+  // Which stage does the restart hold? Load it once in a scratch folder.
+  const fs::path probe = out_dir_ / "specimen" / "probe";
+  fs::remove_all(probe);
+  copy_run_files(from.parent_path(), probe);
+  ShearStage stage = ShearStage::Empty;
+  {
+    std::ofstream sink(probe / "log.txt");
+    SimpleShearTest test(config_for({base_.ball_ball.effective_modulus, base_.ball_ball.friction, base_.ball_ball.rolling_friction}, 1),
+                         probe, sink);
+    try {
+      test.load_restart(from);
+    } catch (const InputError& e) {
+      throw InputError("--from " + from.string() + ": " + e.what() +
+                       " (the restart's folder must still hold the history.csv, fabric.csv and snapshots/ written with it)");
+    }
+    stage = test.stage();
+  }
+  fs::remove_all(probe);
+  if (stage == ShearStage::Generated) {
+    generated_restart_ = from;
+    generated_files_ = from.parent_path();
+  } else if (stage == ShearStage::Consolidated) {
+    require(!fit_modulus, "--from", from.string() + " (a consolidated specimen)",
+            "a restart right after generation when E* is fitted (a consolidated specimen holds the stresses of one E*); "
+            "fit without emod, or drop --from");
+    given_consolidated_ = from;
+    given_files_ = from.parent_path();
+  } else {
+    throw InputError("--from " + from.string() + ": stage " + std::to_string(static_cast<int>(stage)) +
+                     ": must be a restart after generation (1) or consolidation (2), e.g. dem-consolidate's consolidated.restart");
+  }
+}
+
+ShearTrials::~ShearTrials() = default;
+
+SimpleShearConfig ShearTrials::config_for(const ContactFit& fit, int threads) const {
+  SimpleShearConfig c = base_;
+  c.ball_ball.effective_modulus = fit.effective_modulus;
+  c.ball_ball.friction = fit.friction;
+  c.ball_ball.rolling_friction = fit.rolling_friction;
+  c.threads = std::max(1, threads);
+  return c;
+}
+
+fs::path ShearTrials::specimen_dir(double modulus) const { return out_dir_ / "specimen" / ("E_" + detail::exact_text(modulus)); }
+
+fs::path ShearTrials::trial_dir(int number) const {
+  std::ostringstream name;
+  name << std::setw(4) << std::setfill('0') << number;
+  return out_dir_ / "trials" / name.str();
+}
+
+std::vector<double> ShearTrials::prepare(const std::vector<double>& moduli, int parallel, int threads) {
+  std::vector<double> seconds(moduli.size(), 0.0);
+  if (!given_consolidated_.empty()) {
+    for (double m : moduli)
+      require(m == base_.ball_ball.effective_modulus, "trial E*", m, "the E* of the --from specimen, " + detail::exact_text(base_.ball_ball.effective_modulus));
+    return seconds;
+  }
+  std::vector<std::size_t> todo;
+  for (std::size_t i = 0; i < moduli.size(); ++i) {
+    const bool first = std::find(moduli.begin(), moduli.begin() + static_cast<std::ptrdiff_t>(i), moduli[i]) == moduli.begin() + static_cast<std::ptrdiff_t>(i);
+    if (first && !fs::exists(specimen_dir(moduli[i]) / "consolidated.restart")) todo.push_back(i);
+  }
+  if (todo.empty()) return seconds;
+  if (!fs::exists(generated_restart_)) {
+    const auto t0 = std::chrono::steady_clock::now();
+    fs::remove_all(generated_files_);
+    fs::create_directories(generated_files_);
+    std::ofstream log(generated_files_ / "log.txt");
+    SimpleShearTest test(config_for({base_.ball_ball.effective_modulus, base_.ball_ball.friction, base_.ball_ball.rolling_friction},
+                                    parallel * threads),
+                         generated_files_, log);
+    test.generate();
+    test.save_restart(generated_restart_);
+    std::ostringstream line;
+    line.precision(3);
+    line << "specimen generated in " << seconds_since(t0) << " s: " << test.ball_count() << " balls (" << generated_restart_.string()
+         << ")\n";
+    log_ << line.str() << std::flush;
+  }
+  detail::run_parallel(todo.size(), parallel, [&](std::size_t k) {
+    const std::size_t i = todo[k];
+    const auto t0 = std::chrono::steady_clock::now();
+    const fs::path dir = specimen_dir(moduli[i]);
+    fs::remove_all(dir);
+    copy_run_files(generated_files_, dir);
+    std::ofstream log(dir / "log.txt");
+    // Consolidation with this E* and the starting mu and mu_r, so that a specimen depends on E* only.
+    SimpleShearTest test(config_for({moduli[i], base_.ball_ball.friction, base_.ball_ball.rolling_friction}, threads), dir, log);
+    test.load_restart(generated_restart_);
+    test.consolidate();  // writes dir/consolidated.restart last: its presence marks a finished specimen
+    seconds[i] = seconds_since(t0);
+  });
+  return seconds;
+}
+
+ModelCurve ShearTrials::shear(const ContactFit& fit, double strain, int number, int threads) const {
+  const Specimen specimen = given_consolidated_.empty()
+                                ? Specimen{specimen_dir(fit.effective_modulus) / "consolidated.restart", specimen_dir(fit.effective_modulus)}
+                                : Specimen{given_consolidated_, given_files_};
+  require(fs::exists(specimen.restart), "consolidated specimen", specimen.restart.string(), "prepared before the trial (ShearTrials::prepare)");
+  const fs::path dir = trial_dir(number);
+  fs::remove_all(dir);
+  copy_run_files(specimen.files, dir);
+  SimpleShearConfig c = config_for(fit, threads);
+  c.legs = {{base_.legs.front().direction_deg, strain}};
+  {
+    std::ofstream log(dir / "log.txt");
+    SimpleShearTest test(c, dir, log);
+    test.load_restart(specimen.restart);
+    require(test.stage() == ShearStage::Consolidated, "stage of " + specimen.restart.string(), static_cast<int>(test.stage()),
+            "2 (consolidated)");
+    test.shear();
+  }
+  const ModelCurve model = model_curve_from_history(io::read_csv(dir / "history.csv"));
+  for (const auto& entry : fs::directory_iterator(dir))
+    if (entry.path().filename() != "history.csv" && entry.path().filename() != "log.txt") fs::remove_all(entry.path());
+  return model;
+}
+
+std::optional<ModelCurve> ShearTrials::stored_curve(int number) const {
+  const fs::path file = trial_dir(number) / "history.csv";
+  if (!fs::exists(file)) return std::nullopt;
+  return model_curve_from_history(io::read_csv(file));
+}
+
+}  // namespace dem::lab

@@ -1,0 +1,302 @@
+// Calibration (dem-calibrate's library): the lab-vs-model comparison glue on curves small enough
+// to check by hand, the batched searches on analytic functions, and the whole calibration on the
+// reduced specimen of test_simple_shear.cpp (30 mm x 12 mm, 4D balls, ~180 balls): a "lab" curve
+// made by the tool itself from known parameters is fitted again from a start 40 % away, and a
+// second run in the same folder reuses every trial.
+#include <catch2/catch.hpp>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <dem/core/errors.hpp>
+#include <dem/io/csv.hpp>
+#include <dem/io/json.hpp>
+#include <dem/lab/calibration.hpp>
+
+using namespace dem;
+using namespace dem::lab;
+namespace fs = std::filesystem;
+using Catch::Matchers::Contains;
+
+namespace {
+
+// A fresh folder per test case, removed at its end.
+struct TempDir {
+  fs::path path;
+  explicit TempDir(const std::string& name)
+      : path(fs::temp_directory_path() / ("libdem_calibration_" + name + "_" + std::to_string(::getpid()))) {
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ignored;
+    fs::remove_all(path, ignored);
+  }
+};
+
+fs::path write_file(const fs::path& file, const std::string& text) {
+  std::ofstream(file) << text;
+  return file;
+}
+
+LabCurve lab_from(const fs::path& dir, const std::string& text, LabCurveOptions options = {}) {
+  return read_lab_curve(write_file(dir / "lab.csv", text), options);
+}
+
+// The reduced specimen of test_simple_shear.cpp; trials shear it to the lab's largest strain.
+io::Config small_config() {
+  io::Config c(calibration_schema());
+  for (const auto& [k, v] : preset_values("4D")) c.set(k, v);
+  c.set("specimen.diameter", "0.03");
+  c.set("specimen.height", "0.012");
+  c.set("output.every_strain", "0.002");
+  c.set("output.fabric_strains", "");
+  c.set("output.snapshot_strains", "");
+  c.set("engine.threads", "1");
+  return c;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- comparison glue
+
+TEST_CASE("calibration: the model is interpolated onto the lab strains and small lab values are skipped", "[calibration]") {
+  const TempDir temp("compare");
+  const fs::path& dir = temp.path;
+  // Lab in percent strain and kPa: strains 0, 0.01, 0.02, 0.03; stresses 0, 10, 20, 40 kPa.
+  const LabCurve lab = lab_from(dir,
+                                "shear_strain_percent,shear_stress_kPa,volumetric_strain\n"
+                                "0,0,0\n1,10,0.00005\n2,20,-0.002\n3,40,0.004\n");
+  REQUIRE(lab.size() == 4);
+  CHECK(lab.shear_strain[1] == Approx(0.01).margin(1e-15));
+  CHECK(lab.shear_stress[3] == Approx(40e3).margin(1e-9));
+  // Model: tau = 1.1e6 * gamma up to 0.02, then 22 kPa + 0.9e6 (gamma - 0.02); sampled at other strains.
+  ModelCurve model;
+  model.shear_strain = {0.0, 0.005, 0.02, 0.04};
+  model.shear_stress = {0.0, 5.5e3, 22e3, 40e3};
+  model.volumetric_strain = {0.0, 0.0, -0.001, 0.005};
+  const CurveComparison c = compare_curves(lab, model, {.eps_stress = 1000.0, .eps_strain = 1e-4});
+  // Stress: point 0 skipped (0 < eps); RD = |10-11|/10 = 0.1, |20-22|/20 = 0.1, |40-31|/40 = 0.225.
+  CHECK(c.stress.points_used == 3);
+  CHECK(c.stress.points_skipped == 1);
+  CHECK(c.stress.max_percent == Approx(22.5).margin(1e-9));
+  CHECK(c.stress.mean_percent == Approx(100.0 * (0.1 + 0.1 + 0.225) / 3).margin(1e-9));
+  CHECK(c.model_stress[1] == Approx(11e3).margin(1e-9));
+  CHECK(c.model_stress[3] == Approx(31e3).margin(1e-9));
+  CHECK(c.stress_rd_percent[0] == -1.0);
+  CHECK(c.stress_rd_percent[3] == Approx(22.5).margin(1e-9));
+  // Volumetric: 0 and 5e-5 are below eps_strain = 1e-4 and skipped; model at 0.02 is -0.001
+  // (RD 50 %), at 0.03 it is 0.002 (RD 50 %).
+  REQUIRE(c.volumetric);
+  CHECK(c.volumetric->points_used == 2);
+  CHECK(c.volumetric->points_skipped == 2);
+  CHECK(c.volumetric->mean_percent == Approx(50.0).margin(1e-9));
+  CHECK(c.volumetric_rd_percent[1] == -1.0);
+  // A larger eps skips more; the initial slope and the peak on the lab points.
+  CHECK(compare_curves(lab, model, {.eps_stress = 15e3, .eps_strain = 1e-4}).stress.points_used == 2);
+  CHECK(slope_strain_limit(lab, 0.5) == Approx(0.02).margin(1e-15));  // 20 kPa = half of the 40 kPa peak
+  CHECK(slope_strain_limit(lab, 0.1) == Approx(0.01).margin(1e-15));  // at least the second point
+  // Through the origin on (0.01, 10e3), (0.02, 20e3): exactly 1e6 Pa.
+  CHECK(initial_slope(lab, lab.shear_stress, 0.02) == Approx(1e6).epsilon(1e-12));
+  // Model on the same points: (0.01, 11e3), (0.02, 22e3) -> 1.1e6 Pa.
+  CHECK(initial_slope(lab, c.model_stress, 0.02) == Approx(1.1e6).epsilon(1e-12));
+  // Points beyond the limit do not count; (0.01, 12e3), (0.02, 20e3): (120 + 400) / (1 + 4) Pa/1e-2.
+  CHECK(initial_slope(lab, {0.0, 12e3, 20e3, 99e3}, 0.02) == Approx(1.04e6).epsilon(1e-12));
+  CHECK(peak_value(c.model_stress) == Approx(31e3).margin(1e-9));
+}
+
+TEST_CASE("calibration: strain units are explicit: fraction, _percent suffix or the percent flag", "[calibration]") {
+  const TempDir temp("units");
+  const fs::path& dir = temp.path;
+  const std::string text = "shear_strain,shear_stress,volumetric_strain\n0,0,0\n2,1000,0.5\n";
+  const LabCurve fraction = lab_from(dir, text);
+  CHECK(fraction.shear_strain[1] == 2.0);  // as written: never guessed to be percent
+  CHECK(fraction.volumetric_strain[1] == 0.5);
+  const LabCurve percent = lab_from(dir, text, {.strain_percent = true});
+  CHECK(percent.shear_strain[1] == Approx(0.02).margin(1e-15));
+  CHECK(percent.volumetric_strain[1] == Approx(0.005).margin(1e-15));
+  CHECK(percent.shear_stress[1] == 1000.0);  // Pa
+  const LabCurve kpa = lab_from(dir, "shear_stress_kPa,shear_strain,other\n1.5,0.001,7\n");
+  CHECK(kpa.shear_stress[0] == Approx(1500.0).margin(1e-9));
+  CHECK_FALSE(kpa.has_volumetric());
+}
+
+// ---------------------------------------------------------------- searches
+
+TEST_CASE("calibration: the root search brackets and converges on a monotonic function", "[calibration]") {
+  // g(u) = 0.8 (u - 0.37) with a small curvature; start far away, batch of 2.
+  auto g = [](double u) { return 0.8 * (u - 0.37) + 0.1 * (u - 0.37) * (u - 0.37); };
+  RootSearch search({.start = 1.0, .lower = 0.0, .upper = 2.0, .first_step = 0.3, .max_step = 0.5, .slope_guess = 1.0,
+                     .tolerance = 1e-4, .u_tolerance = 1e-6, .batch_size = 2, .max_evaluations = 20});
+  for (auto us = search.propose(); !us.empty(); us = search.propose()) {
+    CHECK(us.size() <= 2);
+    std::vector<double> gs;
+    for (double u : us) gs.push_back(g(u));
+    search.tell(us, gs);
+  }
+  CHECK(search.best() == Approx(0.37).margin(2e-4));
+  CHECK(search.evaluations() <= 10);
+  CHECK_THAT(search.reason(), Contains("converged"));
+  // A root beyond the bound: the search stops at the bound instead of running on.
+  RootSearch bounded({.start = 0.5, .lower = 0.0, .upper = 1.0, .first_step = 0.2, .max_step = 0.5, .slope_guess = 1.0,
+                      .tolerance = 1e-3, .u_tolerance = 1e-6, .batch_size = 1, .max_evaluations = 10});
+  for (auto us = bounded.propose(); !us.empty(); us = bounded.propose()) bounded.tell(us, {us[0] - 3.0});
+  CHECK(bounded.best() == 1.0);
+  CHECK(bounded.evaluations() <= 4);
+}
+
+TEST_CASE("calibration: the pattern search walks downhill and shrinks its step", "[calibration]") {
+  auto f = [](const std::vector<double>& x) { return std::pow(x[0] - 0.42, 2) + 2 * std::pow(x[1] - 0.15, 2); };
+  PatternSearch search({.start = {0.5, 0.3}, .start_value = f({0.5, 0.3}), .lower = {0, 0}, .upper = {1, 1},
+                        .step = {0.05, 0.05}, .min_step = {0.005, 0.005}, .shrink = 0.5, .max_evaluations = 60});
+  for (auto xs = search.propose(); !xs.empty(); xs = search.propose()) {
+    std::vector<double> fs_;
+    for (const auto& x : xs) fs_.push_back(f(x));
+    search.tell(xs, fs_);
+  }
+  CHECK(search.best()[0] == Approx(0.42).margin(0.01));
+  CHECK(search.best()[1] == Approx(0.15).margin(0.01));
+}
+
+// ---------------------------------------------------------------- whole calibration
+
+namespace {
+
+// A lab curve made by the tool from `truth`: the calibration's own specimen (same start
+// configuration, so the same generated state), sheared with the true parameters, every second
+// history row written as lab points.
+fs::path make_lab_curve(const io::Config& start, const ContactFit& truth, double strain, const fs::path& dir) {
+  std::ostringstream log;
+  SimpleShearConfig config = simple_shear_config(start);
+  config.output_every_strain = strain / 100;
+  ShearTrials trials(config, dir / "maker", {}, true, log);
+  trials.prepare({truth.effective_modulus}, 1, 1);
+  const ModelCurve curve = trials.shear(truth, strain, 1, 1);
+  io::CsvTable lab({"shear_strain", "shear_stress", "volumetric_strain"});
+  for (std::size_t k = 0; k < curve.shear_strain.size() && curve.shear_strain[k] <= strain; k += 2)
+    lab.add_row({curve.shear_strain[k], curve.shear_stress[k], curve.volumetric_strain[k]});
+  lab.save(dir / "lab.csv");
+  return dir / "lab.csv";
+}
+
+}  // namespace
+
+TEST_CASE("calibration: E* and mu are recovered from a curve made with known values, and a rerun reuses every trial",
+          "[calibration]") {
+  const TempDir temp("identify");
+  const fs::path& dir = temp.path;
+  const ContactFit truth{1.2e7, 0.5, 0.4};
+  io::Config start = small_config();
+  start.set("ball_ball.effective_modulus", "1.68e7");  // +40 %
+  start.set("ball_ball.friction", "0.3");              // -40 %
+  start.set("calibration.tolerance", "0.005");
+  start.set("calibration.cycles", "3");
+  const fs::path lab_file = make_lab_curve(start, truth, 0.04, dir);
+
+  CalibrationSettings settings = calibration_settings(start);
+  parse_fit_list("emod,friction", settings);
+  std::ostringstream log;
+  const fs::path out = dir / "cal";
+  CalibrationResult first;
+  {
+    Calibration calibration(start, settings, read_lab_curve(lab_file), out, {}, log);
+    first = calibration.run();
+  }
+  INFO(log.str());
+  CHECK(first.best.effective_modulus == Approx(truth.effective_modulus).epsilon(0.10));
+  CHECK(first.best.friction == Approx(truth.friction).epsilon(0.10));
+  CHECK(first.best_trial.stress_rd_mean < 3.0);
+  CHECK(first.new_trials <= first.trials);
+  for (const char* f : {"trials.csv", "calibrated.ini", "comparison.csv", "summary.json", "setup.txt"}) CHECK(fs::exists(out / f));
+
+  // calibrated.ini is a plain simple-shear configuration with the best values.
+  io::Config shear(simple_shear_schema());
+  shear.load_file(out / "calibrated.ini");
+  CHECK(shear.real("ball_ball.effective_modulus") == first.best.effective_modulus);
+  CHECK(shear.real("ball_ball.friction") == first.best.friction);
+  CHECK(shear.real("specimen.diameter") == 0.03);
+  const io::CsvData trials = io::read_csv(out / "trials.csv");
+  CHECK(trials.rows.size() == static_cast<std::size_t>(first.new_trials));
+  const io::CsvData comparison = io::read_csv(out / "comparison.csv");
+  CHECK(comparison.rows.size() == read_lab_curve(lab_file).size());
+  const io::Json summary = io::Json::load(out / "summary.json");
+  CHECK(summary.at("best").at("friction").as_number() == first.best.friction);
+
+  // A calibration killed after some trials: its trials.csv holds only the first ones. The
+  // search asks for the same parameters again, reuses those and runs the rest.
+  const std::size_t kept = trials.rows.size() / 2;
+  io::CsvTable partial(trials.columns);
+  for (std::size_t r = 0; r < kept; ++r) partial.add_row(trials.rows[r]);
+  partial.save(out / "trials.csv");
+  std::ostringstream log2;
+  {
+    Calibration resumed(start, settings, read_lab_curve(lab_file), out, {}, log2);
+    const CalibrationResult second = resumed.run();
+    CHECK(second.new_trials == first.new_trials - static_cast<int>(kept));
+    CHECK(second.best == first.best);
+    CHECK(second.best_trial.stress_rd_mean == first.best_trial.stress_rd_mean);
+  }
+  // Complete: nothing new at all.
+  std::ostringstream log3;
+  Calibration again(start, settings, read_lab_curve(lab_file), out, {}, log3);
+  const CalibrationResult third = again.run();
+  CHECK(third.new_trials == 0);
+  CHECK(third.trials == first.trials);
+  CHECK(third.best == first.best);
+  const io::CsvData final_trials = io::read_csv(out / "trials.csv");
+  REQUIRE(final_trials.rows.size() == trials.rows.size());
+  for (std::size_t r = 0; r < trials.rows.size(); ++r)  // all but the seconds of the re-run trials
+    for (std::size_t c = 0; c + 1 < trials.columns.size(); ++c) CHECK(final_trials.rows[r][c] == trials.rows[r][c]);
+
+  // Another lab curve in the same folder is refused rather than mixed with these trials.
+  const fs::path other = dir / "other.csv";
+  std::ofstream(other) << "shear_strain,shear_stress\n0,0\n0.01,50000\n0.02,80000\n";
+  CHECK_THROWS_WITH(Calibration(start, settings, read_lab_curve(other), out, {}, log3), Contains("another calibration set-up"));
+}
+
+TEST_CASE("calibration: parallel trials give the same trials as serial ones, from a consolidated restart", "[calibration]") {
+  const TempDir temp("parallel");
+  const fs::path& dir = temp.path;
+  const ContactFit truth{1.2e7, 0.5, 0.4};
+  io::Config start = small_config();
+  start.set("ball_ball.friction", "0.35");
+  start.set("calibration.cycles", "1");
+  start.set("calibration.max_trials_per_stage", "4");
+  const fs::path lab_file = make_lab_curve(start, truth, 0.03, dir);
+  // The lab maker's consolidated specimen has the starting E*: fitting mu alone needs no other.
+  fs::path consolidated;
+  for (const auto& entry : fs::directory_iterator(dir / "maker" / "specimen"))
+    if (entry.path().filename().string().rfind("E_", 0) == 0) consolidated = entry.path() / "consolidated.restart";
+  REQUIRE(fs::exists(consolidated));
+  CalibrationSettings settings = calibration_settings(start);
+  std::ostringstream log;
+  CHECK_THROWS_WITH(Calibration(start, settings, read_lab_curve(lab_file), dir / "refused", consolidated, log),
+                    Contains("--from") && Contains("E* is fitted"));
+
+  parse_fit_list("friction", settings);
+  std::vector<io::CsvData> runs;
+  std::vector<ContactFit> best;
+  for (int parallel : {1, 2}) {
+    settings.parallel_trials = parallel;
+    settings.threads = parallel;
+    const fs::path out = dir / ("run" + std::to_string(parallel));
+    Calibration calibration(start, settings, read_lab_curve(lab_file), out, consolidated, log);
+    const CalibrationResult result = calibration.run();
+    CHECK(result.new_trials >= 4);
+    CHECK_FALSE(fs::exists(out / "specimen" / "generated"));  // nothing generated or consolidated
+    runs.push_back(io::read_csv(out / "trials.csv"));
+    best.push_back(result.best);
+  }
+  INFO(log.str());
+  CHECK(best[0] == best[1]);
+  REQUIRE(runs[0].rows.size() == runs[1].rows.size());
+  const std::size_t seconds = runs[0].column("seconds");
+  for (std::size_t r = 0; r < runs[0].rows.size(); ++r)
+    for (std::size_t c = 0; c < runs[0].columns.size(); ++c)
+      if (c != seconds) CHECK(runs[0].rows[r][c] == runs[1].rows[r][c]);
+  CHECK(best[0].friction == Approx(truth.friction).epsilon(0.10));
+}

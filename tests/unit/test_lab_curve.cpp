@@ -1,0 +1,92 @@
+// Lab curves for dem-calibrate: every unusable file is refused with a message that names the
+// file, the line and the column where there is one, and what is allowed.
+#include <catch2/catch.hpp>
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <dem/core/errors.hpp>
+#include <dem/lab/lab_curve.hpp>
+
+using dem::InputError;
+using dem::lab::LabCurve;
+using dem::lab::read_lab_curve;
+using Catch::Matchers::Contains;
+namespace fs = std::filesystem;
+
+namespace {
+
+// Files in a folder of this process, removed when the tests end.
+struct Folder {
+  fs::path path = fs::temp_directory_path() / ("libdem_lab_curve_" + std::to_string(::getpid()));
+  Folder() { fs::create_directories(path); }
+  ~Folder() {
+    std::error_code ignored;
+    fs::remove_all(path, ignored);
+  }
+};
+
+fs::path lab_file(const std::string& name, const std::string& text) {
+  static const Folder folder;
+  const fs::path file = folder.path / name;
+  std::ofstream(file) << text;
+  return file;
+}
+
+}  // namespace
+
+TEST_CASE("lab curve: a good file with comments, blank lines and extra columns", "[lab-curve]") {
+  const fs::path file = lab_file("good.csv",
+                                 "# NGI simple shear, Leighton Buzzard B, 200 kPa\n"
+                                 "time_s,shear_strain,shear_stress,volumetric_strain\n"
+                                 "\n"
+                                 "0,0,0,0\n"
+                                 "# a comment between rows\n"
+                                 "10,0.001,5000,-0.0001\n"
+                                 "20,0.002,9000,-0.0002\r\n");
+  const LabCurve lab = read_lab_curve(file);
+  REQUIRE(lab.size() == 3);
+  CHECK(lab.shear_strain[2] == 0.002);
+  CHECK(lab.shear_stress[1] == 5000.0);
+  CHECK(lab.volumetric_strain[2] == -0.0002);
+  CHECK(lab.max_strain() == 0.002);
+  // Lines are those of the file, not row indices: comments and blank lines count.
+  CHECK(lab.lines == std::vector<std::size_t>{4, 6, 7});
+}
+
+TEST_CASE("lab curve: missing columns name the file and list the columns", "[lab-curve]") {
+  const fs::path no_strain = lab_file("no_strain.csv", "strain,shear_stress\n0,0\n0.01,1000\n");
+  CHECK_THROWS_AS(read_lab_curve(no_strain), InputError);
+  CHECK_THROWS_WITH(read_lab_curve(no_strain), Contains("no_strain.csv") && Contains("shear_strain_percent") &&
+                                                   Contains("columns are: strain, shear_stress"));
+  const fs::path no_stress = lab_file("no_stress.csv", "shear_strain,tau\n0,0\n");
+  CHECK_THROWS_WITH(read_lab_curve(no_stress), Contains("no_stress.csv") && Contains("shear_stress_kPa"));
+  const fs::path both = lab_file("both.csv", "shear_strain,shear_strain_percent,shear_stress\n0,0,0\n");
+  CHECK_THROWS_WITH(read_lab_curve(both), Contains("both") && Contains("only one"));
+}
+
+TEST_CASE("lab curve: strain must increase strictly and be >= 0, the message gives line and column", "[lab-curve]") {
+  const fs::path back = lab_file("back.csv", "shear_strain_percent,shear_stress_kPa\n0,0\n1,10\n# note\n0.5,12\n");
+  CHECK_THROWS_WITH(read_lab_curve(back), Contains("back.csv:5") && Contains("'shear_strain_percent'") &&
+                                              Contains("0.5") && Contains("line 3") && Contains("increase strictly"));
+  const fs::path flat = lab_file("flat.csv", "shear_strain,shear_stress\n0,0\n0.01,10\n0.01,12\n");
+  CHECK_THROWS_WITH(read_lab_curve(flat), Contains("flat.csv:4") && Contains("increase strictly"));
+  const fs::path negative = lab_file("negative.csv", "shear_strain,shear_stress\n-0.001,0\n0.01,10\n");
+  CHECK_THROWS_WITH(read_lab_curve(negative), Contains("negative.csv:2") && Contains(">= 0"));
+}
+
+TEST_CASE("lab curve: NaN, text and empty files are refused by line", "[lab-curve]") {
+  const fs::path nan = lab_file("nan.csv", "shear_strain,shear_stress\n0,0\n0.01,nan\n");
+  CHECK_THROWS_WITH(read_lab_curve(nan), Contains("nan.csv:3") && Contains("shear_stress") && Contains("NaN"));
+  const fs::path text = lab_file("text.csv", "shear_strain,shear_stress\n0,0\n0.01,12kPa\n");
+  CHECK_THROWS_WITH(read_lab_curve(text), Contains("text.csv:3") && Contains("not a number"));
+  const fs::path empty = lab_file("empty.csv", "");
+  CHECK_THROWS_WITH(read_lab_curve(empty), Contains("empty.csv") && Contains("empty"));
+  const fs::path header_only = lab_file("header_only.csv", "shear_strain,shear_stress\n# nothing yet\n");
+  CHECK_THROWS_WITH(read_lab_curve(header_only), Contains("header_only.csv") && Contains("no data rows"));
+  CHECK_THROWS_WITH(read_lab_curve(lab_file("missing_dir_check.csv", "x\n").parent_path() / "does_not_exist.csv"),
+                    Contains("does_not_exist.csv") && Contains("does not exist"));
+}
