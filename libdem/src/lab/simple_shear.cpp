@@ -185,13 +185,7 @@ void SimpleShearTest::generate() {
 void SimpleShearTest::consolidate() {
   require(stage_ == ShearStage::Generated, "consolidate() stage", static_cast<int>(stage_), "1 (generated)");
   const auto t0 = std::chrono::steady_clock::now();
-  ServoSettings servo;
-  servo.target_stress = config_.vertical_stress;
-  servo.relaxation = config_.servo_relaxation;
-  servo.max_speed = config_.servo_max_speed;
-  servo.settle_tolerance = config_.stress_tolerance;
-  servo.settle_steps = static_cast<int>(config_.settle_steps);
-  if (!servo_) servo_ = add_servo_wall(*world_, top_, servo);
+  if (!servo_) servo_ = add_servo_wall(*world_, top_, servo_settings());
   const std::int64_t start = world_->step_count();
   bool settled = false;
   while (world_->step_count() - start < config_.consolidation_max_steps) {
@@ -218,6 +212,25 @@ void SimpleShearTest::consolidate() {
   save_restart(out_dir_ / "consolidated.restart");
 }
 
+ServoSettings SimpleShearTest::servo_settings() const {
+  ServoSettings servo;
+  servo.target_stress = config_.vertical_stress;
+  servo.relaxation = config_.servo_relaxation;
+  servo.max_speed = config_.servo_max_speed;
+  servo.settle_tolerance = config_.stress_tolerance;
+  servo.settle_steps = static_cast<int>(config_.settle_steps);
+  return servo;
+}
+
+double SimpleShearTest::mean_diameter() const {
+  const ParticleStore& p = world_->particles();
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (!p.is_pebble(i)) sum += 2 * p.radius[i], ++n;
+  return n > 0 ? sum / static_cast<double>(n) : config_.grading.largest();
+}
+
 Vec3 SimpleShearTest::leg_direction(std::size_t leg) const {
   const double a = config_.legs.at(leg).direction_deg * pi / 180.0;
   return Vec3(std::cos(a), std::sin(a), 0.0);
@@ -226,22 +239,11 @@ Vec3 SimpleShearTest::leg_direction(std::size_t leg) const {
 double SimpleShearTest::shear_rate() const {
   if (config_.strain_rate > 0.0) return config_.strain_rate;
   // I = gamma_dot d_mean sqrt(rho / p) (MODEL.md 3.4)
-  const ParticleStore& p = world_->particles();
-  double sum = 0.0;
-  std::size_t n = 0;
-  for (std::size_t i = 0; i < p.size(); ++i)
-    if (!p.is_pebble(i)) sum += 2 * p.radius[i], ++n;
-  const double d_mean = n > 0 ? sum / static_cast<double>(n) : config_.grading.largest();
-  return config_.inertial_number / (d_mean * std::sqrt(config_.density / config_.vertical_stress));
+  return config_.inertial_number / (mean_diameter() * std::sqrt(config_.density / config_.vertical_stress));
 }
 
 double SimpleShearTest::inertial_number() const {
-  const ParticleStore& p = world_->particles();
-  double sum = 0.0;
-  std::size_t n = 0;
-  for (std::size_t i = 0; i < p.size(); ++i)
-    if (!p.is_pebble(i)) sum += 2 * p.radius[i], ++n;
-  return shear_rate() * (sum / std::max<std::size_t>(n, 1)) * std::sqrt(config_.density / config_.vertical_stress);
+  return shear_rate() * mean_diameter() * std::sqrt(config_.density / config_.vertical_stress);
 }
 
 void SimpleShearTest::start_leg() {

@@ -177,13 +177,7 @@ void SimpleShearTest::restore_protocol_state(const std::string& text) {
   fabric_->resume(next_fabric_);
   snapshots_->resume(next_snapshot_);
   if (get("servo") > 0) {
-    ServoSettings servo;
-    servo.target_stress = config_.vertical_stress;
-    servo.relaxation = config_.servo_relaxation;
-    servo.max_speed = config_.servo_max_speed;
-    servo.settle_tolerance = config_.stress_tolerance;
-    servo.settle_steps = static_cast<int>(config_.settle_steps);
-    servo_ = add_servo_wall(*world_, top_, servo);
+    servo_ = add_servo_wall(*world_, top_, servo_settings());
     servo_->hold_position(get("servo_holding") > 0);
   }
 }

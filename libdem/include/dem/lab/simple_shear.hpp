@@ -104,6 +104,8 @@ class SimpleShearTest {
   std::string protocol_state() const;
   void restore_protocol_state(const std::string& text);
   Vec3 leg_direction(std::size_t leg) const;
+  ServoSettings servo_settings() const;
+  double mean_diameter() const;  // m, of the balls
   void start_leg();
 
   SimpleShearConfig config_;
