@@ -135,7 +135,8 @@ def world_fields(state):
                        ("skin_", 8)):
         take(name, size)
     if at != len(state):
-        fail(f"final.restart: {len(state) - at} bytes after the last World field: kill_resume.py's layout is out of date")
+        fail(f"final.restart: {len(state) - at} bytes after the last World field: "
+             "kill_resume.py's layout is out of date")
     return fields
 
 
