@@ -22,6 +22,8 @@
 #include <dem/io/csv.hpp>
 #include <dem/io/json.hpp>
 
+#include "command_line.hpp"
+
 namespace fs = std::filesystem;
 namespace po = boost::program_options;
 
@@ -620,27 +622,17 @@ void Calibration::write_outputs(const CalibrationResult& result) {
 
 std::optional<CalibrationCommandLine> parse_calibration_command_line(int argc, char** argv, std::ostream& out) {
   po::options_description opts("Options");
-  opts.add_options()("help,h", "print this help and every configuration key")(
-      "lab", po::value<std::string>(), "laboratory curve, CSV (format below); required")(
-      "preset", po::value<std::string>()->default_value("4D"), "1D, 2D or 4D: particle-size scale and the study's Table 1 values as the start")(
-      "config,c", po::value<std::string>(), "configuration file (.ini or .json; may hold a [calibration] section)")(
-      "set,s", po::value<std::vector<std::string>>()->composing(), "override one key, e.g. --set calibration.friction_max=1 (repeatable)")(
+  detail::add_common_options(opts, "1D, 2D or 4D: particle-size scale and the study's Table 1 values as the start",
+                             "configuration file (.ini or .json; may hold a [calibration] section)", "calibration.friction_max=1");
+  opts.add_options()("lab", po::value<std::string>(), "laboratory curve, CSV (format below); required")(
       "out,o", po::value<std::string>()->default_value("runs/calibration"), "output folder; run again with the same folder to resume")(
       "fit", po::value<std::string>()->default_value("emod,friction,rolling"), "parameters to fit: comma-separated emod (E*), friction (mu), rolling (mu_r)")(
       "from", po::value<std::string>(), "restart file of the specimen: right after generation, or consolidated (dem-consolidate; then E* cannot be fitted)")(
-      "threads", po::value<int>(), "OpenMP threads in all (default: engine.threads, or OMP_NUM_THREADS)")(
       "parallel-trials", po::value<int>()->default_value(1), "trials run at the same time, each with threads/parallel-trials threads; results do not depend on it")(
       "strain-percent", "strain columns of the lab CSV without a _percent suffix are in % (never guessed)")(
       "eps-stress", po::value<double>(), "Pa: lab shear stresses with |value| below this are skipped by the relative difference (calibration.eps_stress, default 1000)")(
-      "eps-strain", po::value<double>(), "lab volumetric strains with |value| below this are skipped (calibration.eps_strain, default 1e-4)")(
-      "print-config", "print the resolved configuration (INI) and exit");
-  po::variables_map vm;
-  try {
-    po::store(po::parse_command_line(argc, argv, opts), vm);
-    po::notify(vm);
-  } catch (const po::error& e) {
-    throw InputError(std::string("command line: ") + e.what() + " (see --help)");
-  }
+      "eps-strain", po::value<double>(), "lab volumetric strains with |value| below this are skipped (calibration.eps_strain, default 1e-4)");
+  const po::variables_map vm = detail::parse_options(argc, argv, opts);
   const io::Schema schema = calibration_schema();
   if (vm.count("help")) {
     out << "dem-calibrate: fits the ball-ball contact parameters E*, mu and mu_r so that a simulated simple-shear curve\n"
@@ -664,16 +656,7 @@ std::optional<CalibrationCommandLine> parse_calibration_command_line(int argc, c
         << schema.help_text();
     return std::nullopt;
   }
-  io::Config config(schema);
-  for (const auto& [key, value] : preset_values(vm["preset"].as<std::string>())) config.set(key, value);
-  if (vm.count("config")) config.load_file(vm["config"].as<std::string>());
-  if (vm.count("set"))
-    for (const std::string& assignment : vm["set"].as<std::vector<std::string>>()) config.set(assignment);
-  if (vm.count("threads")) {
-    const int threads = vm["threads"].as<int>();
-    require(threads >= 1, "--threads", threads, ">= 1");
-    config.set("engine.threads", std::to_string(threads));
-  }
+  io::Config config = detail::resolve_config(schema, vm);
   if (vm.count("eps-stress")) config.set("calibration.eps_stress", detail::exact_text(vm["eps-stress"].as<double>()));
   if (vm.count("eps-strain")) config.set("calibration.eps_strain", detail::exact_text(vm["eps-strain"].as<double>()));
   if (vm.count("print-config")) {
@@ -690,11 +673,7 @@ std::optional<CalibrationCommandLine> parse_calibration_command_line(int argc, c
   LabCurveOptions lab_options;
   lab_options.strain_percent = vm.count("strain-percent") > 0;
   LabCurve lab = read_lab_curve(vm["lab"].as<std::string>(), lab_options);
-  fs::path from;
-  if (vm.count("from")) {
-    from = vm["from"].as<std::string>();
-    require(fs::exists(from), "--from", from.string(), "an existing restart file");
-  }
+  const fs::path from = detail::restart_file(vm);
   return CalibrationCommandLine{std::move(config), settings, std::move(lab), vm["out"].as<std::string>(), from};
 }
 

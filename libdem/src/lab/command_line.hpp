@@ -1,0 +1,29 @@
+// Private to the lab apps' command-line parsers (shear_cli.cpp, calibration.cpp): the options they
+// share and the one order in which they resolve a configuration, so that both apps read presets,
+// files, --set and --threads identically.
+#pragma once
+
+#include <boost/program_options.hpp>
+#include <filesystem>
+#include <string>
+
+#include <dem/io/config.hpp>
+#include <dem/lab/simple_shear_config.hpp>
+
+namespace dem::lab::detail {
+
+/// Adds --help, --preset, --config, --set, --threads and --print-config.
+void add_common_options(boost::program_options::options_description& opts, const std::string& preset_help, const std::string& config_help, const std::string& set_example);
+
+/// Parses argv against `opts`; a malformed command line is an InputError that points to --help.
+boost::program_options::variables_map parse_options(int argc, char** argv,
+                                                    const boost::program_options::options_description& opts);
+
+/// The configuration from schema defaults, then the preset, the --config file, each --set and
+/// --threads, later ones overriding earlier ones.
+io::Config resolve_config(io::Schema schema, const boost::program_options::variables_map& vm);
+
+/// The --from restart file, checked to exist; empty when not given.
+std::filesystem::path restart_file(const boost::program_options::variables_map& vm);
+
+}  // namespace dem::lab::detail
