@@ -1,5 +1,6 @@
 #include <dem/io/checkpoint.hpp>
 
+#include <algorithm>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -70,7 +71,10 @@ std::string load_checkpoint(const std::filesystem::path& path, World& world) {
   std::istringstream payload(data, std::ios::binary);
   std::uint64_t text_size = 0;
   payload.read(reinterpret_cast<char*>(&text_size), sizeof text_size);
-  if (!payload || text_size > data.size()) throw InputError("restart file " + path.string() + ": corrupt header");
+  if (!payload || text_size > data.size() - sizeof text_size)
+    throw InputError("restart file " + path.string() + ": protocol state size = " + std::to_string(text_size) +
+                     ": must be at most " + std::to_string(data.size() - std::min(data.size(), sizeof text_size)) +
+                     " bytes (the payload)");
   std::string text(text_size, '\0');
   payload.read(text.data(), static_cast<std::streamsize>(text_size));
   try {
@@ -78,6 +82,12 @@ std::string load_checkpoint(const std::filesystem::path& path, World& world) {
   } catch (const InputError& e) {
     throw InputError("restart file " + path.string() + ": " + e.what());
   }
+  // The payload is exactly the protocol state and the world state: anything after it means the
+  // writer and this reader disagree about the format.
+  const auto used = static_cast<std::size_t>(payload.tellg());
+  if (used != data.size())
+    throw InputError("restart file " + path.string() + ": " + std::to_string(data.size() - used) +
+                     " bytes after the world state: must be none (written by another format?)");
   return text;
 }
 
