@@ -15,12 +15,6 @@ foreach(target config checkpoint csv)
   target_link_libraries(fuzz_replay_${target} PRIVATE libdem::dem libdem_flags)
   add_test(NAME fuzz_corpus_${target} COMMAND fuzz_replay_${target} ${LIBDEM_FUZZ_DIR}/corpus/${target})
   set_tests_properties(fuzz_corpus_${target} PROPERTIES TIMEOUT 300 LABELS "fuzz")
-  # Inputs that still crash the library (tests/fuzz/README.md): disabled until it is fixed, then
-  # the inputs move into corpus/ and this test goes away.
-  if(IS_DIRECTORY ${LIBDEM_FUZZ_DIR}/crashes/${target})
-    add_test(NAME fuzz_known_crashes_${target} COMMAND fuzz_replay_${target} ${LIBDEM_FUZZ_DIR}/crashes/${target})
-    set_tests_properties(fuzz_known_crashes_${target} PROPERTIES TIMEOUT 300 LABELS "fuzz" DISABLED ON)
-  endif()
   if(LIBDEM_FUZZ)
     add_executable(fuzz_${target} ${LIBDEM_FUZZ_DIR}/fuzz_${target}.cpp)
     target_link_libraries(fuzz_${target} PRIVATE libdem::dem libdem_flags)
