@@ -41,6 +41,12 @@ void ServoWall::set_target(double stress) {
   steps_on_target_ = 0;
 }
 
+void ServoWall::set_max_speed(double max_speed) {
+  require(std::isfinite(max_speed) && max_speed > 0.0, "servo on wall " + std::to_string(wall_) + " max_speed", max_speed,
+          "finite and > 0 (m/s)");
+  settings_.max_speed = max_speed;
+}
+
 void ServoWall::set_target_function(std::function<double(double time)> target_of_time) {
   require(static_cast<bool>(target_of_time), "servo on wall " + std::to_string(wall_) + " target function", "empty",
           "a callable");

@@ -216,10 +216,15 @@ ServoSettings SimpleShearTest::servo_settings() const {
   ServoSettings servo;
   servo.target_stress = config_.vertical_stress;
   servo.relaxation = config_.servo_relaxation;
-  servo.max_speed = config_.servo_max_speed;
+  servo.max_speed = stage_ >= ShearStage::Consolidated ? shear_servo_speed() : config_.servo_max_speed;
   servo.settle_tolerance = config_.stress_tolerance;
   servo.settle_steps = static_cast<int>(config_.settle_steps);
   return servo;
+}
+
+double SimpleShearTest::shear_servo_speed() const {
+  if (config_.shear_servo_max_speed > 0.0) return config_.shear_servo_max_speed;
+  return std::max(config_.servo_max_speed, shear_rate() * consolidated_height_);
 }
 
 double SimpleShearTest::mean_diameter() const {
@@ -253,6 +258,7 @@ void SimpleShearTest::start_leg() {
   FacetWall& top = world_->wall(top_);
   top.velocity.x() = top.velocity.y() = 0.0;
   servo_->hold_position(config_.constant_volume);
+  servo_->set_max_speed(shear_servo_speed());
 }
 
 void SimpleShearTest::shear() {

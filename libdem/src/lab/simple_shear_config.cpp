@@ -89,6 +89,8 @@ io::Schema simple_shear_schema() {
   s.add({.key = "shear.leg_strains", .type = ValueType::RealList, .default_value = "", .unit = "-",
          .help = "shear strain of each leg; empty: one leg of shear.target_strain", .min = 0.0});
   s.add({.key = "shear.target_strain", .default_value = "0.4", .unit = "-", .help = "shear strain of a single-leg test", .min = 0.0, .min_exclusive = true});
+  s.add({.key = "shear.servo_max_speed", .default_value = "0", .unit = "m/s",
+         .help = "speed cap of the servo plate while shearing; 0: the larger of consolidation.servo_max_speed and the shear plate speed (a dilating specimen lifts the top plate at up to its dilatancy ratio times that speed)", .min = 0.0});
   s.add({.key = "shear.inertial_number", .default_value = "0.001", .unit = "-", .help = "quasi-static inertial number that sets the shear rate", .min = 0.0, .max = 0.1, .min_exclusive = true});
   s.add({.key = "shear.strain_rate", .default_value = "0", .unit = "1/s", .help = "shear strain rate, 0: from shear.inertial_number", .min = 0.0});
   s.add({.key = "measure.sphere_radius_ratio", .default_value = "0.8", .unit = "-", .help = "measurement sphere radius over half the height", .min = 0.05, .max = 1.0});
@@ -148,6 +150,7 @@ SimpleShearConfig simple_shear_config(const io::Config& c) {
   s.settle_steps = c.integer("consolidation.settle_steps");
   s.consolidation_max_steps = c.integer("consolidation.max_steps");
   s.constant_volume = c.text("shear.mode") == "constant-volume";
+  s.shear_servo_max_speed = c.real("shear.servo_max_speed");
   const auto directions = c.real_list("shear.directions_deg");
   const auto strains = c.real_list("shear.leg_strains");
   require(!directions.empty(), "shear.directions_deg", "(empty)", "at least one direction");

@@ -61,6 +61,9 @@ class ServoWall {
   /// Target stress (Pa) as a function of the world time (s), evaluated every step; it must return
   /// a finite value >= 0 (else InputError at that step). The settled count restarts.
   void set_target_function(std::function<double(double time)> target_of_time);
+  /// Changes the speed cap (m/s, finite and > 0): a shearing specimen may dilate faster than a
+  /// consolidating one settles.
+  void set_max_speed(double max_speed);
   /// true: the normal wall speed is held at 0 (constant volume / fixed height); false: stress
   /// control. Switchable at any time; the tangential velocity is kept in both modes.
   void hold_position(bool hold) { holding_ = hold; }

@@ -105,6 +105,7 @@ class SimpleShearTest {
   void restore_protocol_state(const std::string& text);
   Vec3 leg_direction(std::size_t leg) const;
   ServoSettings servo_settings() const;
+  double shear_servo_speed() const;  // m/s, cap of the servo plate while shearing
   double mean_diameter() const;  // m, of the balls
   void start_leg();
 
