@@ -196,13 +196,14 @@ void check_length(std::size_t size, std::size_t expected, const std::string& fie
 
 /// Per-contact results are saved empty when no step has computed them since the last rebuild;
 /// otherwise they have one entry per contact. Empty ones are filled with the zeros the next
-/// step starts from, so that every reader can index them by contact.
+/// step starts from, so that every reader can index them by contact. Vector values are not
+/// checked: a ball-facet contact point stays unset (any bits, NaN too) while the contact does
+/// not touch, and the next step recomputes them all before the engine uses them.
 template <class T>
 void fill_results(std::vector<T>& v, std::size_t contacts, const std::string& field) {
   if (!v.empty() && v.size() != contacts)
     refuse(field + " count", v.size(), "0 or " + std::to_string(contacts) + " (one per contact)");
   if constexpr (std::is_same_v<T, Vec3>) {
-    check_finite(v, field);
     v.resize(contacts, Vec3::Zero());
   } else {
     for (std::size_t k = 0; k < v.size(); ++k)
