@@ -1,4 +1,4 @@
-// Ring stacks (MODEL.md 4): the geometry, mass and inertia built by make_ring_stack against the
+// Ring stacks (docs/model.md 4): the geometry, mass and inertia built by make_ring_stack against the
 // thick-cylinder formulas, its input checks, and a small NGI-type specimen: a few hundred balls
 // inside a stack of pebble rings between two facet plates, compressed by the top plate. The rings
 // must move horizontally only, keep every ball in, and be pushed outwards by the sand.
@@ -162,7 +162,7 @@ TEST_CASE("ring stack: bad input is refused with the key and the value", "[rings
 
 namespace {
 
-/// Specimen by radius expansion (MODEL.md 7): balls of final radii drawn uniformly in
+/// Specimen by radius expansion (docs/model.md 7): balls of final radii drawn uniformly in
 /// [r_min, r_max] until their volume is `solid` of the cylinder (radius a, height h), placed at
 /// random without overlap at half their radii; returns the balls at half size and their final radii.
 std::vector<BallSpec> half_size_specimen(double a, double h, double r_min, double r_max, double solid, unsigned seed,

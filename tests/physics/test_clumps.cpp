@@ -1,6 +1,6 @@
-// Rigid clumps (MODEL.md 4): mass properties from pebbles, momentum and angular momentum balance
+// Rigid clumps (docs/model.md 4): mass properties from pebbles, momentum and angular momentum balance
 // of a clump struck by a ball, torque-free precession, fixities, no contacts inside a clump, and
-// MODEL.md T11 (a ring of 12 pebbles free in x and y only, pushed by a ball).
+// docs/model.md T11 (a ring of 12 pebbles free in x and y only, pushed by a ball).
 //
 // Pebbles do not touch facet walls (the engine's wall contacts are ball-facet only), so the
 // impacts here are against balls: a fixed ball is a rigid obstacle whose contact force is
@@ -225,7 +225,7 @@ TEST_CASE("clump contacts: pebbles of one clump never touch, pebbles of two clum
   }
 }
 
-TEST_CASE("clump ring (MODEL.md T11): a ball pushing a ring of 12 pebbles accelerates it along the push only",
+TEST_CASE("clump ring (docs/model.md T11): a ball pushing a ring of 12 pebbles accelerates it along the push only",
           "[clump]") {
   // Ring of 12 pebbles of r = 0.5 mm tangent to their neighbours: centres on R = r / sin(15 deg),
   // standing for a solid ring of inner radius R - r, outer R + r and height 2 r (aluminium).

@@ -1,4 +1,4 @@
-// Conservation laws (MODEL.md 2): without damping and friction a granular gas in a closed box
+// Conservation laws (docs/model.md 2): without damping and friction a granular gas in a closed box
 // keeps its total energy (kinetic + elastic); pair forces are equal and opposite, so linear
 // momentum of a colliding cluster is conserved to round-off, with friction and rolling resistance.
 #include <catch2/catch.hpp>

@@ -1,4 +1,4 @@
-// Coulomb slip of the linear law (MODEL.md T3), at the law level and through the engine: a block
+// Coulomb slip of the linear law (docs/model.md T3), at the law level and through the engine: a block
 // (a ball with rotation locked) on an incline sticks while tan(theta) < mu and otherwise slides
 // with a = g (sin theta - mu cos theta).
 #include <catch2/catch.hpp>

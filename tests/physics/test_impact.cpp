@@ -1,4 +1,4 @@
-// Two equal balls, head-on, linear law (MODEL.md T1, T2): contact duration, restitution, force
+// Two equal balls, head-on, linear law (docs/model.md T1, T2): contact duration, restitution, force
 // direction, against the closed-form solution of a linear spring-dashpot oscillator.
 #include <catch2/catch.hpp>
 

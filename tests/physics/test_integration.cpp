@@ -1,4 +1,4 @@
-// Time integration: local damping (MODEL.md T7), free flight, and the instability stop.
+// Time integration: local damping (docs/model.md T7), free flight, and the instability stop.
 #include <catch2/catch.hpp>
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// Measurement sphere (MODEL.md 6, test T9): stress of a compressed simple-cubic lattice in both
+// Measurement sphere (docs/model.md 6, test T9): stress of a compressed simple-cubic lattice in both
 // forms, lattice porosity, the stress inside a relaxed packing against the wall stress, the strain
 // rate of an imposed uniform velocity gradient, and bad input.
 #include <catch2/catch.hpp>
@@ -81,7 +81,7 @@ TEST_CASE("measurement sphere: T9 compressed simple-cubic lattice", "[physics][m
   // x-contact: off-diagonal moments vanish to round-off.
   CHECK(max_off_diagonal(m.stress) <= 1e-12 * std::abs(expected));
 
-  // Overlaps between balls count twice (MODEL.md 6.2), so the solid fraction is V_b / s^3.
+  // Overlaps between balls count twice (docs/model.md 6.2), so the solid fraction is V_b / s^3.
   const double solid_fraction = 4.0 / 3.0 * pi * r * r * r / (s * s * s);  // 0.525172
   CHECK(m.porosity == Approx(1.0 - solid_fraction).margin(solid_fraction * tol_ball));
 
@@ -178,7 +178,7 @@ double compressed_packing(World& world, double half) {
   world.set_contact_model(ContactKind::BallBall, ball_ball(0.0));
   world.set_contact_model(ContactKind::BallFacet,
                           make_contact_model<LinearLaw>(LinearParams::deformable(modulus_wall, 1.0, 0.0), "ball-facet"));
-  // Radius expansion (MODEL.md 7) to a solid fraction of 0.65, above random close packing, so the
+  // Radius expansion (docs/model.md 7) to a solid fraction of 0.65, above random close packing, so the
   // packing ends up compressed everywhere. Frictionless while it jams: a frictional packing
   // jams loose and keeps the heterogeneity of its assembly; friction then stops the slow creep
   // of the frictionless packing, and the state relaxes within a few hundred steps.

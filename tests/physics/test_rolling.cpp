@@ -1,4 +1,4 @@
-// Rolling resistance (MODEL.md T4, T5): the rolling spring and its cap at the law level, and a
+// Rolling resistance (docs/model.md T4, T5): the rolling spring and its cap at the law level, and a
 // ball rolling on a facet under gravity that decelerates at (5/7) mu_r g and stops at
 // v0^2 / (2 a). With mu_r = 0 rolling is not resisted by the law.
 #include <catch2/catch.hpp>

@@ -1,4 +1,4 @@
-// Servo-controlled walls (MODEL.md 5, T10). A plate on one ball over a fixed floor settles where
+// Servo-controlled walls (docs/model.md 5, T10). A plate on one ball over a fixed floor settles where
 // both contacts carry the target force, i.e. at the overlap sum F* (1/k_top + 1/k_bot), and each
 // step of servo motion removes between 0 and alpha_s of the stress error (exactly alpha_s when the
 // speed cap is not active). Packings in boxes of facet walls reach, hold and follow targets with
@@ -20,7 +20,7 @@ namespace {
 
 constexpr double plate_half = 2e-3;                         // m, half side of the square plates
 constexpr double plate_area = 4 * plate_half * plate_half;  // m^2
-constexpr double kn_wall = pi * radius * modulus_wall;      // N/m, ball-facet (MODEL.md T0), 31415.9
+constexpr double kn_wall = pi * radius * modulus_wall;      // N/m, ball-facet (docs/model.md T0), 31415.9
 
 /// One ball resting on a floor at z = 0, a free plate `gap` above it; returns the plate's id.
 WallId ball_between_plates(World& world, double gap, double wall_friction) {

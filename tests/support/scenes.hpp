@@ -1,4 +1,4 @@
-// Small scenes shared by the physics tests. Values follow MODEL.md section 11: balls of radius
+// Small scenes shared by the physics tests. Values follow docs/model.md section 11: balls of radius
 // 0.5 mm, density 2650 kg/m^3, E* = 5.3e7 Pa (ball-ball) and 2e7 Pa (ball-facet).
 #pragma once
 

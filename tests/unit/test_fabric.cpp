@@ -1,4 +1,4 @@
-// Rose histograms, Fourier fits (MODEL.md 9.2, test T8) and the fabric tensor (MODEL.md 9.3).
+// Rose histograms, Fourier fits (docs/model.md 9.2, test T8) and the fabric tensor (docs/model.md 9.3).
 #include <dem/core/errors.hpp>
 #include <dem/measure/fabric.hpp>
 
@@ -48,7 +48,7 @@ TEST_CASE("fabric: T8 Fourier fits recover a known anisotropy", "[measure][fabri
   CHECK(std::accumulate(r.fraction.begin(), r.fraction.end(), 0.0) == Approx(1.0).epsilon(1e-12));
 
   // Sampling noise: each of (2/N) sum cos 2theta, (2/N) sum sin 2theta has std ~ sqrt(2/N) =
-  // 1.4e-3, so a is off by ~1.4e-3 and theta_a by ~1.4e-3/(2a) rad = 0.1 deg. MODEL.md's T8
+  // 1.4e-3, so a is off by ~1.4e-3 and theta_a by ~1.4e-3/(2a) rad = 0.1 deg. docs/model.md's T8
   // bounds (0.003, 0.3 deg) are 2-3 sigma; the seed is fixed, so the test is deterministic.
   // The sinc correction removes the binning bias of the cos 2theta mode exactly.
   CHECK(r.a == Approx(0.400).margin(0.003));

@@ -310,7 +310,7 @@ TEST_CASE("fabric log: rows hold the known bins, forces and totals of hand-built
   xy[2] = {1, force(1)};
   xy[13] = {2, 0.5 * (force(2) + force(3))};
 
-  // Bin-free anisotropy of the x-z angles 5, 65, 95, 95 degrees (MODEL.md 9.2).
+  // Bin-free anisotropy of the x-z angles 5, 65, 95, 95 degrees (docs/model.md 9.2).
   std::complex<double> sum = 0.0;
   for (const double theta : {5.0, 65.0, 95.0, 95.0}) sum += std::polar(1.0, 2.0 * theta * deg);
   const double a_direct_xz = 2.0 * std::abs(sum) / 4.0;

@@ -1,4 +1,4 @@
-// Principal stresses against closed-form values (MODEL.md 6.3, test T6).
+// Principal stresses against closed-form values (docs/model.md 6.3, test T6).
 #include <dem/core/errors.hpp>
 #include <dem/measure/principal_stress.hpp>
 
@@ -35,7 +35,7 @@ TEST_CASE("principal stresses: T6 in-plane values and rotation", "[measure]") {
   CHECK(p.sigma_1 == Approx(150.0 + r).margin(1e-9));
   CHECK(p.sigma_2 == Approx(150.0).margin(1e-9));
   CHECK(p.sigma_3 == Approx(150.0 - r).margin(1e-9));
-  // MODEL.md quotes three decimals: half a unit of the last digit.
+  // docs/model.md quotes three decimals: half a unit of the last digit.
   CHECK(p.sigma_1 == Approx(220.711).margin(5e-4));
   CHECK(p.sigma_3 == Approx(79.289).margin(5e-4));
 

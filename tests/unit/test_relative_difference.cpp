@@ -1,4 +1,4 @@
-// Interpolation and the relative-difference metric (MODEL.md 8) on curves small enough to
+// Interpolation and the relative-difference metric (docs/model.md 8) on curves small enough to
 // compute by hand. Expected values are exact decimals, so the tolerance only absorbs rounding
 // of a few double operations (1e-12).
 #include <dem/core/errors.hpp>

@@ -70,7 +70,7 @@ void ServoWall::operator()(World& world) {
   const double error = achieved_ - target_;  // Pa, > 0: too much stress, back off
   steps_on_target_ = std::abs(error) <= settings_.settle_tolerance * target_ ? steps_on_target_ + 1 : 0;
 
-  // MODEL.md 5: G = alpha_s A / (sum k_n dt). With the stiffness of this step, the wall's own
+  // docs/model.md 5: G = alpha_s A / (sum k_n dt). With the stiffness of this step, the wall's own
   // motion changes the stress by -alpha_s * error. The gain is also recomputed whenever contacts
   // reappear, so that a wall arriving at the specimen never uses a stale or zero gain.
   const bool touching = wall.stiffness_sum > 0.0;

@@ -13,7 +13,7 @@ namespace dem {
 
 namespace {
 
-/// Local damping (MODEL.md 3.1): F_i (1 - alpha sign(F_i V_i)) for each degree of freedom.
+/// Local damping (docs/model.md 3.1): F_i (1 - alpha sign(F_i V_i)) for each degree of freedom.
 inline Vec3 damped(const Vec3& force, const Vec3& velocity, double alpha) {
   Vec3 out;
   for (int a = 0; a < 3; ++a) {
@@ -73,7 +73,7 @@ void World::integrate() {
     fail(what.str(), i);
   }
 
-  // Clumps: rigid bodies driven by the forces on their pebbles (MODEL.md 4).
+  // Clumps: rigid bodies driven by the forces on their pebbles (docs/model.md 4).
   for (Clump& c : clumps_) {
     Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
     for (ParticleId pid : c.pebbles) {

@@ -243,7 +243,7 @@ Vec3 SimpleShearTest::leg_direction(std::size_t leg) const {
 
 double SimpleShearTest::shear_rate() const {
   if (config_.strain_rate > 0.0) return config_.strain_rate;
-  // I = gamma_dot d_mean sqrt(rho / p) (MODEL.md 3.4)
+  // I = gamma_dot d_mean sqrt(rho / p) (docs/model.md 3.4)
   return config_.inertial_number / (mean_diameter() * std::sqrt(config_.density / config_.vertical_stress));
 }
 

@@ -84,7 +84,7 @@ ShearState SimpleShearTest::measure() const {
   const Mat3 compression = -s.sphere.stress;
   const double s_dd = d.dot(compression * d), s_dz = d.dot(compression * Vec3::UnitZ());
   const double s_zz = compression(2, 2);
-  // Angle of the major compression from vertical towards +d (MODEL.md 6.3); with the bottom
+  // Angle of the major compression from vertical towards +d (docs/model.md 6.3); with the bottom
   // moving along +d it tilts towards +d, so it grows positive with shear.
   s.principal_rotation_deg = 0.5 * std::atan2(2 * s_dz, s_zz - s_dd) * 180.0 / pi;
   return s;

@@ -1,4 +1,4 @@
-// Rose histograms and Fourier fits of contact fabric (MODEL.md 9). The FFT over the bins is
+// Rose histograms and Fourier fits of contact fabric (docs/model.md 9). The FFT over the bins is
 // overkill for 18 bins, but it keeps one code path for fine roses and matches the study's method.
 #include <dem/measure/fabric.hpp>
 
@@ -74,7 +74,7 @@ struct FftwPlanDestroy {
 
 // Real-to-complex FFT over the M bins. Returns the k = 0 and k = 1 coefficients referred to the
 // bin centres theta_m = (m + 1/2) D: the DFT refers to the lower edges, hence the factor
-// exp(-i pi k / M) (MODEL.md 9.2). Planning happens here, in the calling thread.
+// exp(-i pi k / M) (docs/model.md 9.2). Planning happens here, in the calling thread.
 class BinTransform {
  public:
   explicit BinTransform(int bins)
@@ -104,7 +104,7 @@ class BinTransform {
 };
 
 // Second-order fit from the k = 0, 1 modes of binned data: amplitude 2|X_1|/X_0, divided by
-// the bin-averaging attenuation c(D) = sin(D)/D, and direction -0.5 arg(X_1) (MODEL.md 9.2).
+// the bin-averaging attenuation c(D) = sin(D)/D, and direction -0.5 arg(X_1) (docs/model.md 9.2).
 struct Fit {
   double amplitude;      // -
   double direction_deg;  // [0, 180)

@@ -1,4 +1,4 @@
-// Measurement sphere (MODEL.md 6.1, 6.2). One pass over the particles marks the balls inside and
+// Measurement sphere (docs/model.md 6.1, 6.2). One pass over the particles marks the balls inside and
 // accumulates volumes and velocity moments; one pass over the contacts accumulates both stress
 // sums, contact counts and fabric samples.
 //
@@ -144,7 +144,7 @@ SphereMeasurement measure(const World& world, const MeasurementSphere& sphere) {
   out.mechanical_coordination_number =
       active_balls == 0 ? 0.0 : static_cast<double>(contacts_of_active) / static_cast<double>(active_balls);
 
-  // --- strain rate: L = (sum v~ x~^T)(sum x~ x~^T)^-1 over the balls inside (MODEL.md 6.2) ------
+  // --- strain rate: L = (sum v~ x~^T)(sum x~ x~^T)^-1 over the balls inside (docs/model.md 6.2) ------
   const double count = static_cast<double>(out.balls);
   const Vec3 mean_x = sum_x / count, mean_v = sum_v / count;
   const Mat3 spread = sum_xx - count * mean_x * mean_x.transpose();  // m^2

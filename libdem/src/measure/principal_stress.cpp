@@ -1,4 +1,4 @@
-// Principal stresses (MODEL.md 6.3). Eigen returns eigenvalues in ascending order, so the
+// Principal stresses (docs/model.md 6.3). Eigen returns eigenvalues in ascending order, so the
 // largest eigenvalue of s = -sigma is sigma_1.
 #include <dem/measure/principal_stress.hpp>
 
@@ -28,7 +28,7 @@ Vec3 canonical_sign(Vec3 e) {
 }
 
 // Major-direction angle from vertical in the (a, z) plane, compression positive:
-// psi = 0.5 atan2(2 s_az, s_zz - s_aa), MODEL.md 6.3. An isotropic sub-tensor has no major
+// psi = 0.5 atan2(2 s_az, s_zz - s_aa), docs/model.md 6.3. An isotropic sub-tensor has no major
 // direction; report 0 there instead of the angle of rounding noise.
 double in_plane_rotation_deg(double s_aa, double s_zz, double s_az, double scale) {
   const double radius = std::hypot(0.5 * (s_zz - s_aa), s_az);

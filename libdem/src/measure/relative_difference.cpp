@@ -1,4 +1,4 @@
-// Relative difference (MODEL.md 8). Curves are validated once per public call; the inner
+// Relative difference (docs/model.md 8). Curves are validated once per public call; the inner
 // interpolation then runs without re-checking, so relative_difference stays O(n log m).
 #include <dem/measure/relative_difference.hpp>
 

@@ -1,4 +1,4 @@
-// Clumps: rigid bodies made of spherical pebbles (PFC clumps, MODEL.md section 4). The pebbles
+// Clumps: rigid bodies made of spherical pebbles (PFC clumps, docs/model.md section 4). The pebbles
 // are the surface that balls touch (ball-pebble contacts with their own contact-model
 // parameters); the clump carries the mass, the inertia tensor and the per-degree-of-freedom
 // fixity. Pebbles of one clump never touch each other, and by default pebbles of different clumps

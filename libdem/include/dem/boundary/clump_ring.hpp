@@ -1,10 +1,10 @@
 // The lateral confinement of an NGI-type simple-shear specimen: a stack of rings around the
-// cylindrical specimen, each ring a rigid clump of pebbles (MODEL.md 4). The sand pushes the rings
+// cylindrical specimen, each ring a rigid clump of pebbles (docs/model.md 4). The sand pushes the rings
 // passively; each ring is free to translate horizontally and is fixed in z and in rotation, so the
 // stack keeps the cross-section constant and follows the shear profile layer by layer.
 //
 // Why clumps and not a cylindrical facet wall: a facet wall only moves with a prescribed velocity,
-// and a prescribed velocity concentrates load at the boundary (the study's reason, MODEL.md 4).
+// and a prescribed velocity concentrates load at the boundary (the study's reason, docs/model.md 4).
 //
 // Geometry of the stack built here (z up, all rings coaxial with the specimen):
 //   - pebble centres lie on the circle of radius a + r_peb, so the pebbles' inner surfaces are
@@ -47,7 +47,7 @@ struct RingStackSpec {
   std::uint8_t fixed = dof_z | dof_rotation;  // Dof bits of every ring (NGI rings: free in x and y only)
 };
 
-/// Mass properties of a solid thick cylinder shell about its centre, axis z (MODEL.md 4).
+/// Mass properties of a solid thick cylinder shell about its centre, axis z (docs/model.md 4).
 struct RingMass {
   double mass = 0.0;            // kg, rho pi (b^2 - a^2) h
   double axial_inertia = 0.0;   // kg m^2, I_zz = m (a^2 + b^2)/2

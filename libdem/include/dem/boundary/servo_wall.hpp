@@ -1,4 +1,4 @@
-// Servo-controlled loading wall (MODEL.md 5): moves one FacetWall along its outward normal so that
+// Servo-controlled loading wall (docs/model.md 5): moves one FacetWall along its outward normal so that
 // the compressive normal stress on it approaches a target, the way PFC's triaxial and biaxial
 // examples drive their platens.
 //

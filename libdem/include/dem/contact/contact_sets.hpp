@@ -4,7 +4,7 @@
 //
 // The history is a byte buffer with one law State per candidate, created and copied only through
 // the law-typed ContactModel (contact_model.hpp). A candidate that is not touching holds a fresh
-// State, so history lives exactly as long as the contact (MODEL.md 1.1: history resets when the
+// State, so history lives exactly as long as the contact (docs/model.md 1.1: history resets when the
 // pieces separate). Forces are written per contact and then gathered per particle in a fixed
 // order, which makes results independent of the thread count.
 #pragma once

@@ -1,7 +1,7 @@
 // What a contact law sees of a contact, computed once by the engine and passed by argument
 // (LAMMPS's GranularModel computes the same record but shares it through public fields).
 //
-// Conventions (MODEL.md section 0): piece 1 is always a ball; piece 2 is a ball, a facet or a
+// Conventions (docs/model.md section 0): piece 1 is always a ball; piece 2 is a ball, a facet or a
 // pebble. The normal points from piece 1 to piece 2. The law returns the force and the pure
 // moment that piece 2 receives; piece 1 receives the opposite.
 #pragma once
@@ -47,7 +47,7 @@ struct ContactForce {
   double normal_stiffness = 0.0;  // N/m, used by servo gains and time-step estimates
 };
 
-/// Stiffnesses of a contact, for the stable time step (MODEL.md 3.2).
+/// Stiffnesses of a contact, for the stable time step (docs/model.md 3.2).
 struct ContactStiffness {
   double normal = 0.0;   // N/m
   double shear = 0.0;    // N/m

@@ -1,8 +1,8 @@
-// Linear contact law with Coulomb slip (PFC "linear", MODEL.md 1.1) and its rolling-resistance
-// extension (PFC "rrlinear", MODEL.md 1.2). Both are header-inline because the engine's contact
+// Linear contact law with Coulomb slip (PFC "linear", docs/model.md 1.1) and its rolling-resistance
+// extension (PFC "rrlinear", docs/model.md 1.2). Both are header-inline because the engine's contact
 // loop is a template on the law: the compiler sees the whole force computation.
 //
-// Stiffness: either from an effective modulus by the deformability method (MODEL.md 1.3),
+// Stiffness: either from an effective modulus by the deformability method (docs/model.md 1.3),
 //   kn = pi rbar^2 E* / L, ks = kn / kappa*, rbar = min(R1, R2) (R1 for a facet), L = R1 + R2,
 // or constant per contact type (kn, ks given), as LAMMPS and LIGGGHTS set them.
 // Damping: optional dashpots, either as critical-damping ratios (PFC) or mass-proportional
@@ -72,7 +72,7 @@ struct LinearParams {
     require_non_negative(where + ".shear_damping_rate", shear_damping_rate);
   }
 
-  /// kn and ks of one contact (MODEL.md 1.3).
+  /// kn and ks of one contact (docs/model.md 1.3).
   DEM_HOT_INLINE ContactStiffness stiffness(const ContactKinematics& k) const {
     ContactStiffness s;
     if (effective_modulus != 0.0) {
@@ -92,7 +92,7 @@ struct LinearParams {
 namespace detail {
 
 /// Rotates a stored tangential vector into the current contact plane, keeping its length
-/// (MODEL.md 1.1 step 1; LAMMPS rotates and rescales its tangential history the same way).
+/// (docs/model.md 1.1 step 1; LAMMPS rotates and rescales its tangential history the same way).
 DEM_HOT_INLINE void rotate_into_plane(Vec3& stored, const Vec3& normal) {
   const double length_sq = stored.squaredNorm();
   if (length_sq == 0.0) return;

@@ -1,7 +1,7 @@
 // The World owns a simulation: particles, clumps, facet walls, the contact models of each contact
 // type, the broad phase and the clock. There are no globals: two Worlds are independent.
 //
-// A step (leapfrog, as PFC's velocity Verlet with velocities half a step behind, MODEL.md 2):
+// A step (leapfrog, as PFC's velocity Verlet with velocities half a step behind, docs/model.md 2):
 //   1. rebuild the Verlet lists if something moved more than allowed by the skin;
 //   2. contact forces from the positions at t and the velocities at t - dt/2, gathered per
 //      particle in a fixed order (results do not depend on the thread count);
@@ -35,7 +35,7 @@
 namespace dem {
 
 struct WorldSettings {
-  double time_step = 0.0;            // s; 0: estimated from stiffnesses and masses (MODEL.md 3.2)
+  double time_step = 0.0;            // s; 0: estimated from stiffnesses and masses (docs/model.md 3.2)
   double time_step_safety = 0.8;     // -, dt = safety * critical estimate
   double local_damping = 0.7;        // -, PFC local damping alpha (0 for dynamic problems)
   Vec3 gravity = Vec3::Zero();       // m/s^2
@@ -85,7 +85,7 @@ class World {
   std::int64_t step_count() const { return steps_; }
   double time_step() const { return dt_; }              // s (0 until the first step if automatic)
   void set_time_step(double dt);
-  /// Critical time step estimate min over bodies of sqrt(m/K) (MODEL.md 3.2), s.
+  /// Critical time step estimate min over bodies of sqrt(m/K) (docs/model.md 3.2), s.
   double critical_time_step() const;
   /// Re-estimates the automatic time step now (after generation or a stiffness change).
   void update_time_step();

@@ -1,7 +1,7 @@
 // Closest point on a triangle, plus the area, normal and validity checks for one triangle.
 //
 // Why: a rigid facet wall touches a ball where the ball centre is closest to one of the wall's
-// triangles (MODEL.md §0: for a facet, x2 is that closest point). This query runs for every ball
+// triangles (docs/model.md §0: for a facet, x2 is that closest point). This query runs for every ball
 // near a wall at every time step. So it is inline, allocates nothing, takes no square root and
 // makes at most six region tests.
 //

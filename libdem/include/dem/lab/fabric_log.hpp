@@ -1,6 +1,6 @@
 // Contact fabric of a run, state by state: the rose diagrams (contact number and average contact
 // force per 10-degree bin) of the study's figures after consolidation and at 20 % and 40 % shear
-// strain, with their Fourier fits (MODEL.md 9), in one CSV file that a plotting script filters by
+// strain, with their Fourier fits (docs/model.md 9), in one CSV file that a plotting script filters by
 // label and plane.
 //
 // The file has one row per (state, plane, bin) and a header line:

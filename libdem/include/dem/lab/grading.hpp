@@ -1,5 +1,5 @@
-// Particle-size distributions for specimen generation (MODEL.md 7). The study's ball counts are
-// reproduced by diameters uniform *by number* on [0.7, 1.2] mm times the size scale (MODEL.md
+// Particle-size distributions for specimen generation (docs/model.md 7). The study's ball counts are
+// reproduced by diameters uniform *by number* on [0.7, 1.2] mm times the size scale (docs/model.md
 // 7.2: 111,122 / 13,890 / 1,736 balls for 1D / 2D / 4D at porosity 0.37, within 1.2 % of the
 // study's), while the real sand grading by mass needs 60-80 % more balls. Both are offered.
 #pragma once

@@ -4,7 +4,7 @@
 // several directions while the top plate keeps the vertical stress (drained) or the height
 // (constant volume). Apps drive it; a calibration runs many shears from one consolidated state.
 //
-// Kinematics (MODEL.md 8; the study's convention): the top plate is held horizontally and the
+// Kinematics (docs/model.md 8; the study's convention): the top plate is held horizontally and the
 // bottom plate moves along the shear direction d of the current leg: shear strain
 // gamma = (u_bottom - u_top)_horizontal / H_c, with H_c the height after consolidation. Shear
 // stress is the horizontal force the sand puts on the top plate over the specimen area, positive
@@ -63,7 +63,7 @@ class SimpleShearTest {
   SimpleShearTest(const SimpleShearTest&) = delete;
   SimpleShearTest& operator=(const SimpleShearTest&) = delete;
 
-  /// Specimen by radius expansion in the ring stack (MODEL.md 7).
+  /// Specimen by radius expansion in the ring stack (docs/model.md 7).
   void generate();
   /// Servo consolidation to the vertical stress, until stress and kinetic energy have settled.
   void consolidate();

@@ -2,7 +2,7 @@
 // (keys, defaults, ranges, help) so that apps read it from INI/JSON files and --set overrides.
 //
 // Presets "1D", "2D", "4D" are the study's three particle-size scales with its Table 1 contact
-// parameters (MODEL.md 1.3). Items the study does not state (MODEL.md 12: dashpots, ring
+// parameters (docs/model.md 1.3). Items the study does not state (docs/model.md 12: dashpots, ring
 // geometry, shear rate, probe radius...) are keys with defensible defaults, never constants.
 #pragma once
 

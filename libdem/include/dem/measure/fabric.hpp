@@ -1,5 +1,5 @@
 // Contact fabric: rose histograms of contact normals in a plane, their second-order Fourier fits
-// (Rothenburg and Bathurst 1989, MODEL.md 9.2), and the 3-D fabric tensor (MODEL.md 9.3).
+// (Rothenburg and Bathurst 1989, docs/model.md 9.2), and the 3-D fabric tensor (docs/model.md 9.3).
 //
 // A contact normal n and -n describe the same contact, so projected angles are folded into
 // [0, 180) degrees; the full-circle rose is drawn by symmetry. The fit is done twice: from the
@@ -37,7 +37,7 @@ struct Rose {
   std::vector<long> count;                ///< contacts per bin
   std::vector<double> fraction;           ///< count / contacts_used
   std::vector<double> mean_normal_force;  ///< N, mean F_n per bin; 0 for empty bins
-  // Second-order Fourier fits from the binned data, FFT plus sinc correction (MODEL.md 9.2):
+  // Second-order Fourier fits from the binned data, FFT plus sinc correction (docs/model.md 9.2):
   // E(theta) = (1/pi)(1 + a cos 2(theta - theta_a)), f_n(theta) = f0 (1 + a_n cos 2(theta - theta_n)).
   double a;            ///< contact-normal anisotropy, -
   double theta_a_deg;  ///< its principal direction, degrees

@@ -1,4 +1,4 @@
-// Measurement spheres (MODEL.md 6): the averaged state of the balls in a spherical region, as
+// Measurement spheres (docs/model.md 6): the averaged state of the balls in a spherical region, as
 // PFC's "measure" logic reports it: stress, porosity, coordination numbers, contact fabric and
 // strain rate. The study reads a sphere at the specimen centre to plot stress paths and the
 // rotation of principal stresses.
@@ -14,7 +14,7 @@
 //     both forms.
 //   - coordination numbers: every contact of the balls inside (boundary contacts too: they carry
 //     the ball's load as much as ball-ball contacts do).
-//   - fabric: ball-ball contacts with contact point inside (MODEL.md 9.1 default).
+//   - fabric: ball-ball contacts with contact point inside (docs/model.md 9.1 default).
 //
 // Only contacts with a positive elastic normal force (World::for_each_contact) exist here.
 // A sphere that contains no ball centre throws: it is almost always a misplaced sphere (wrong
@@ -57,10 +57,10 @@ double sphere_intersection_volume(double r1, double r2, double distance);
 
 /// What a measurement sphere reports. Stresses are tension positive (continuum convention).
 struct SphereMeasurement {
-  /// Pa, ball-based porosity-corrected stress (MODEL.md 6.1 a), symmetrised:
+  /// Pa, ball-based porosity-corrected stress (docs/model.md 6.1 a), symmetrised:
   /// (1 - n) / sum V_b * sum_b sum_c (x_c - x_b) (outer) F_c^(b).
   Mat3 stress = Mat3::Zero();
-  /// Pa, contact-based Love-Weber stress (MODEL.md 6.1 b), symmetrised:
+  /// Pa, contact-based Love-Weber stress (docs/model.md 6.1 b), symmetrised:
   /// -(1 / V_S) sum_{x_c in S} F_c (outer) L_c.
   Mat3 stress_contacts = Mat3::Zero();
   /// -, 1 - (volume of ball parts inside the sphere) / V_S; ball-sphere intersections are exact
@@ -73,15 +73,15 @@ struct SphereMeasurement {
   double mechanical_coordination_number = 0.0;
   std::size_t balls = 0;     ///< balls whose centre is inside
   std::size_t contacts = 0;  ///< ball-ball contacts whose contact point is inside
-  /// -, fabric tensor phi_ij = (1/N) sum n_i n_j of those ball-ball contacts (MODEL.md 9.3);
+  /// -, fabric tensor phi_ij = (1/N) sum n_i n_j of those ball-ball contacts (docs/model.md 9.3);
   /// NaN when there is none.
   Mat3 fabric = Mat3::Zero();
-  /// 1/s, symmetric part of the least-squares velocity gradient of the balls inside (MODEL.md
+  /// 1/s, symmetric part of the least-squares velocity gradient of the balls inside (docs/model.md
   /// 6.2). Velocities are half a step behind positions (leapfrog); at quasi-static rates the
   /// mismatch is of order L dt relative. NaN when the balls inside do not span 3-D (fewer than 4
   /// balls, or all coplanar).
   Mat3 strain_rate = Mat3::Zero();
-  /// Principal stresses of `stress`, compression positive (MODEL.md 6.3).
+  /// Principal stresses of `stress`, compression positive (docs/model.md 6.3).
   measure::PrincipalStresses principal{};
 };
 

@@ -1,4 +1,4 @@
-// Principal stresses and their orientation, for the study's stress-rotation plots (MODEL.md 6.3).
+// Principal stresses and their orientation, for the study's stress-rotation plots (docs/model.md 6.3).
 //
 // Input is the measured stress in the continuum convention (tension positive, as PFC reports
 // it); output is compression positive, as soil papers and the study's figures use. The sign flip

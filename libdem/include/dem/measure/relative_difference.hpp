@@ -1,5 +1,5 @@
 // Relative difference between a laboratory curve and a model curve, the study's Table 2/3 metric
-// (MODEL.md 8): RD_k = |y_lab(x_k) - y_model(x_k)| / |y_lab(x_k)| on the lab's x points.
+// (docs/model.md 8): RD_k = |y_lab(x_k) - y_model(x_k)| / |y_lab(x_k)| on the lab's x points.
 //
 // The model is interpolated onto the lab points, not the reverse, because the study defines RD
 // at the experimental strains. Points the metric cannot judge are skipped and counted rather
