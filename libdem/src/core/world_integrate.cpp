@@ -95,7 +95,9 @@ void World::integrate() {
     if (angle > 0.0) c.orientation = (Quat(Eigen::AngleAxisd(angle, c.w.normalized())) * c.orientation).normalized();
     c.x += c.v * dt;
     c.displacement += c.v * dt;
-    if (!c.x.allFinite() || !c.v.allFinite() || !c.w.allFinite())
+    // A finite spin whose norm overflows makes the orientation NaN while w itself stays finite;
+    // the pebbles would then go NaN unseen and break the next broad-phase rebuild.
+    if (!c.x.allFinite() || !c.v.allFinite() || !c.w.allFinite() || !c.orientation.coeffs().allFinite())
       fail("its clump became NaN or infinite", p.index_of(c.pebbles.front()));
   }
   if (!clumps_.empty()) update_pebbles();
