@@ -107,6 +107,31 @@ TEST_CASE("calibration: the model is interpolated onto the lab strains and small
   // Points beyond the limit do not count; (0.01, 12e3), (0.02, 20e3): (120 + 400) / (1 + 4) Pa/1e-2.
   CHECK(initial_slope(lab, {0.0, 12e3, 20e3, 99e3}, 0.02) == Approx(1.04e6).epsilon(1e-12));
   CHECK(peak_value(c.model_stress) == Approx(31e3).margin(1e-9));
+  // Late dilatancy: the mean over the lab points from a strain on; the model's NaN outside its range
+  // is left out. Lab from 0.02: (-0.002 + 0.004) / 2; model: (-0.001 + 0.002) / 2.
+  CHECK(late_mean(lab, lab.volumetric_strain, 0.02) == Approx(0.001).margin(1e-15));
+  CHECK(late_mean(lab, c.model_volumetric, 0.02) == Approx(0.0005).margin(1e-15));
+  CHECK(late_mean(lab, {1.0, 2.0, 3.0, std::nan("")}, 0.015) == Approx(3.0).margin(1e-15));
+  CHECK(std::isnan(late_mean(lab, lab.volumetric_strain, 0.5)));  // no point that late
+}
+
+TEST_CASE("calibration: stage 3 matches the late dilatancy only when the lab curve has one", "[calibration]") {
+  const TempDir temp("target");
+  const fs::path& dir = temp.path;
+  io::Config c(calibration_schema());
+  for (const auto& [k, v] : preset_values("4D")) c.set(k, v);
+  c.set("calibration.rolling_target", "dilatancy");
+  const CalibrationSettings settings = calibration_settings(c);
+  CHECK(settings.rolling_target == CalibrationSettings::RollingTarget::Dilatancy);
+  std::ostringstream log;
+  // No volumetric column: refused before any simulation, naming the key and what is allowed.
+  const LabCurve no_volume = lab_from(dir, "shear_strain,shear_stress\n0,0\n0.01,50000\n0.02,80000\n");
+  CHECK_THROWS_WITH(Calibration(c, settings, no_volume, dir / "a", {}, log),
+                    Contains("calibration.rolling_target = dilatancy") && Contains("no volumetric strain") && Contains("peak"));
+  // A volumetric strain that stays below eps_strain (1e-4) late in the curve: refused too.
+  const LabCurve flat = lab_from(dir, "shear_strain,shear_stress,volumetric_strain\n0,0,0\n0.01,50000,0.001\n0.02,80000,0.00005\n");
+  CHECK_THROWS_WITH(Calibration(c, settings, flat, dir / "b", {}, log), Contains("late dilatancy of 5e-05"));
+  CHECK_THROWS_WITH(c.set("calibration.rolling_target", "sideways"), Contains("calibration.rolling_target") && Contains("sideways"));
 }
 
 TEST_CASE("calibration: strain units are explicit: fraction, _percent suffix or the percent flag", "[calibration]") {

@@ -178,4 +178,13 @@ double peak_value(const std::vector<double>& y) {
   return peak;
 }
 
+double late_mean(const LabCurve& lab, const std::vector<double>& y, double from_strain) {
+  require(y.size() == lab.size(), "late_mean values", y.size(), "one per lab point (" + std::to_string(lab.size()) + ")");
+  double sum = 0.0;
+  int used = 0;
+  for (std::size_t k = 0; k < lab.size(); ++k)
+    if (lab.shear_strain[k] >= from_strain && std::isfinite(y[k])) sum += y[k], ++used;
+  return used > 0 ? sum / used : std::numeric_limits<double>::quiet_NaN();
+}
+
 }  // namespace dem::lab

@@ -1,7 +1,8 @@
 // Calibration of the ball-ball contact parameters (E*, mu, mu_r) against a laboratory
 // simple-shear curve, in the study's four stages: (1) E* from the initial slope of shear stress
-// against strain, (2) mu from the peak, (3) mu_r from the peak, (4) a joint polish of mu and mu_r
-// on the mean relative difference of the whole curve (MODEL.md 8). Stages 1-3 are 1-D root
+// against strain, (2) mu from the peak, (3) mu_r from the peak (the study) or from the late
+// dilatancy (the default when the lab curve has volumetric strain), (4) a joint polish of mu and mu_r
+// on the mean relative difference of the whole curve (docs/model.md 8). Stages 1-3 are 1-D root
 // searches on a signed mismatch, stage 4 a compass search (RootSearch, PatternSearch). Stages 1-3
 // run `cycles` times (default 3, the study did one by hand): over the first per cent of strain a
 // granular specimen's stress depends on mu too, so E* fitted with a wrong mu is biased, and the
@@ -173,7 +174,14 @@ struct CalibrationSettings {
   double slope_stress_fraction = 0.3; // -, initial slope fitted up to this fraction of the lab peak
   double polish_step = 0.1;           // -, first step of stage 4, relative to mu and mu_r
   double polish_min_step = 0.02;      // -, stage 4 ends below this relative step
-  double volumetric_weight = 0.0;     // -, weight of the volumetric mean RD in the stage-4 objective
+  double volumetric_weight = 1.0;     // -, weight of the volumetric mean RD in the stage-4 objective
+  /// What stage 3 matches with mu_r: the peak shear stress (the study), or the late dilatancy
+  /// (mean volumetric strain over the last part of the lab's strain range). Auto: dilatancy when
+  /// the lab curve has volumetric strain. Matching the peak with mu and then again with mu_r
+  /// leaves mu_r where it started (stage 2 has already matched the peak); the dilatancy is a
+  /// second, independent feature of the curve.
+  enum class RollingTarget { Auto, Peak, Dilatancy } rolling_target = RollingTarget::Auto;
+  double dilatancy_from = 0.8;        // -, late dilatancy averaged from this fraction of the largest lab strain
   ComparisonOptions comparison;       // eps of the relative difference
   int threads = 1;                    // OpenMP threads in all
   int parallel_trials = 1;            // trials run at the same time (threads / parallel_trials each)
@@ -202,6 +210,7 @@ struct TrialResult {
   double volumetric_points_used = 0, volumetric_points_skipped = 0;
   double model_slope = 0;      // Pa, initial slope of the model on the lab points
   double model_peak = 0;       // Pa, peak shear stress of the model on the lab points
+  double model_dilatancy = 0;  // -, late dilatancy of the model on the lab points (0 without lab volumetric strain)
   double seconds = 0;          // s, wall clock of the trial (with its consolidation, if it needed one)
 };
 
@@ -295,6 +304,8 @@ class Calibration {
   std::ostream& log_;
   ContactFit start_;
   double lab_slope_ = 0, lab_peak_ = 0, slope_limit_ = 0, target_strain_ = 0;
+  bool rolling_by_dilatancy_ = false;  // stage 3 matches the late dilatancy (else the peak)
+  double lab_dilatancy_ = 0;           // -, late dilatancy of the lab curve
   std::unique_ptr<ShearTrials> shears_;
   std::vector<TrialResult> trials_;  // sorted by number
   std::unique_ptr<Progress> progress_;

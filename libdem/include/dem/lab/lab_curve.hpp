@@ -1,6 +1,6 @@
 // A laboratory simple-shear curve (shear stress and, optionally, volumetric strain against shear
 // strain) read from CSV, and its comparison with a model curve: the study's Table 2 metric
-// (MODEL.md 8) plus the two curve features its manual calibration matched, the initial slope
+// (docs/model.md 8) plus the two curve features its manual calibration matched, the initial slope
 // and the peak.
 //
 // Units are explicit, never guessed: a value of 2 in a strain column could be 2 % or 200 %, and a
@@ -78,7 +78,7 @@ struct ModelCurve {
 /// (the consolidation row and a shear row can both sit at strain 0).
 ModelCurve model_curve_from_history(const io::CsvData& history);
 
-/// Points with |lab| below these are skipped by the relative difference (MODEL.md 8).
+/// Points with |lab| below these are skipped by the relative difference (docs/model.md 8).
 struct ComparisonOptions {
   double eps_stress = 1000.0;  // Pa
   double eps_strain = 1e-4;    // -, for volumetric strain
@@ -111,5 +111,9 @@ double initial_slope(const LabCurve& lab, const std::vector<double>& y, double x
 
 /// The largest finite entry of `y` (one value per lab point), Pa; -inf if there is none.
 double peak_value(const std::vector<double>& y);
+
+/// The mean of the finite entries of `y` (one value per lab point) at lab strains >= `from_strain`;
+/// NaN if there is none. The calibration's "late dilatancy" is this of the volumetric strain.
+double late_mean(const LabCurve& lab, const std::vector<double>& y, double from_strain);
 
 }  // namespace dem::lab
