@@ -139,6 +139,7 @@ void compute_walls(const typename Law::Params& params, WallContacts& c, const Ke
         c.force[k].setZero();
         c.torque_ball[k].setZero();
         c.moment[k].setZero();
+        c.point[k] = centre;  // defined bytes in restart files, and a harmless point if read
         c.normal_force[k] = 0.0;
         c.normal_stiffness[k] = 0.0;
         continue;
