@@ -50,3 +50,19 @@ TEST_CASE("instability: a time step far above the stable one stops the run with 
     CHECK(world.step_count() < 5);
   }
 }
+
+TEST_CASE("instability: the overlap limit is a setting that a loaded world can raise", "[physics][integration]") {
+  // Two balls at rest, overlapping by 0.4 of their radius, with the contact law switched off
+  // (zero stiffness is not allowed, so a tiny one): nothing moves, only the limit decides.
+  WorldSettings s = dynamic_settings(1e-6);
+  s.max_overlap_ratio = 0.3;
+  World world(s);
+  world.add_ball(ball_at(Vec3::Zero()));
+  world.add_ball(ball_at(Vec3(1.6 * radius, 0, 0)));
+  world.set_contact_model(ContactKind::BallBall, make_contact_model<LinearLaw>(LinearParams::constant(1e-12, 1e-12, 0.5), "ball-ball"));
+  CHECK_THROWS_AS(world.step(1), InstabilityError);
+  world.set_max_overlap_ratio(0.5);
+  CHECK_NOTHROW(world.step(10));
+  CHECK_THROWS_WITH(world.set_max_overlap_ratio(0.0), Contains("max_overlap_ratio"));
+  CHECK_THROWS_WITH(world.set_max_overlap_ratio(std::nan("")), Contains("max_overlap_ratio"));
+}

@@ -88,6 +88,11 @@ void World::set_local_damping(double alpha) {
   settings_.local_damping = alpha;
 }
 
+void World::set_max_overlap_ratio(double ratio) {
+  require(std::isfinite(ratio) && ratio > 0.0, "max_overlap_ratio", ratio, "finite and > 0");
+  settings_.max_overlap_ratio = ratio;
+}
+
 void World::add_controller(std::function<void(World&)> controller) { controllers_.push_back(std::move(controller)); }
 
 void World::add_callback(std::int64_t every, std::function<void(World&)> callback) {

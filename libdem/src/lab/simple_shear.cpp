@@ -59,6 +59,7 @@ void SimpleShearTest::build_world() {
   s.local_damping = config_.local_damping;
   s.time_step = config_.time_step;
   s.time_step_safety = config_.time_step_safety;
+  s.max_overlap_ratio = config_.max_overlap_ratio;
   s.threads = config_.threads;
   world_ = std::make_unique<World>(s);
   const double radius = config_.diameter / 2, height = config_.height;
@@ -285,6 +286,7 @@ void SimpleShearTest::shear() {
     if (inertial_number() > 1e-3 * 1.0001) log_ << "warning: inertial number above 1e-3: not quasi-static\n";
   }
   const std::int64_t steps_before = world_->step_count();
+  const double strain_before = path_strain_;  // a resumed run has done part of the path already
   while (leg_ < config_.legs.size()) {
     world_->step(chunk_steps);
     const FacetWall& top = world_->wall(top_);
@@ -302,7 +304,9 @@ void SimpleShearTest::shear() {
     record_outputs(leg_ == config_.legs.size());
     maybe_save_restart();
     const double elapsed = seconds_since(t0);
-    const double done = std::min(1.0, path_strain_ / config_.total_strain());
+    // Time left from this run's own pace, over the strain still to go.
+    const double strain_done = path_strain_ - strain_before;
+    const double strain_left = std::max(0.0, config_.total_strain() - path_strain_);
     std::ostringstream detail;
     detail.precision(4);
     const std::int64_t steps = world_->step_count() - steps_before;
@@ -310,7 +314,7 @@ void SimpleShearTest::shear() {
            << (history_.rows().empty() ? 0.0 : history_.rows().back()[history_.column_index("shear_stress")]) / 1e3
            << " kPa, sigma_v " << world_->wall(top_).normal_stress() / 1e3 << " kPa, "
            << static_cast<double>(steps) * static_cast<double>(world_->particles().size()) / std::max(elapsed, 1e-9)
-           << " particle-steps/s, " << (done > 0 ? elapsed * (1 - done) / done : 0.0) << " s left";
+           << " particle-steps/s, " << (strain_done > 0 ? elapsed * strain_left / strain_done : 0.0) << " s left";
     progress("shear", detail.str());
   }
   stage_ = ShearStage::Done;

@@ -72,6 +72,8 @@ io::Schema simple_shear_schema() {
   s.add({.key = "engine.local_damping", .default_value = "0.7", .unit = "-", .help = "local non-viscous damping alpha", .min = 0.0, .max = 0.99});
   s.add({.key = "engine.time_step", .default_value = "0", .unit = "s", .help = "time step, 0: automatic from stiffness and mass", .min = 0.0});
   s.add({.key = "engine.time_step_safety", .default_value = "0.8", .unit = "-", .help = "automatic time step = safety x critical estimate", .min = 0.0, .max = 1.0, .min_exclusive = true});
+  s.add({.key = "engine.max_overlap_ratio", .default_value = "1", .unit = "-",
+         .help = "overlap / smaller radius that stops the run as unstable (also applied to a resumed restart file)", .min = 0.0, .max = 2.0, .min_exclusive = true});
   s.add({.key = "engine.threads", .type = ValueType::Integer, .default_value = "0", .unit = "-", .help = "OpenMP threads, 0: OMP_NUM_THREADS", .min = 0.0, .max = 256.0});
   s.add({.key = "generation.stages", .type = ValueType::Integer, .default_value = "8", .unit = "-", .help = "radius expansion stages from half to full size", .min = 1.0, .max = 100.0});
   s.add({.key = "generation.steps_per_stage", .type = ValueType::Integer, .default_value = "3000", .unit = "-", .help = "largest number of steps of one expansion stage", .min = 1.0});
@@ -139,6 +141,7 @@ SimpleShearConfig simple_shear_config(const io::Config& c) {
   s.local_damping = c.real("engine.local_damping");
   s.time_step = c.real("engine.time_step");
   s.time_step_safety = c.real("engine.time_step_safety");
+  s.max_overlap_ratio = c.real("engine.max_overlap_ratio");
   s.threads = static_cast<int>(c.integer("engine.threads"));
   s.expansion_stages = static_cast<int>(c.integer("generation.stages"));
   s.expansion_steps = c.integer("generation.steps_per_stage");

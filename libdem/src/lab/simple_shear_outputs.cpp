@@ -190,6 +190,8 @@ void SimpleShearTest::load_restart(const std::filesystem::path& file) {
   build_world();  // walls, rings and contact models as configured; the file supplies the state
   servo_.reset();
   restore_protocol_state(io::load_checkpoint(file, *world_));
+  // The configuration's limit, not the one of the run that wrote the file (older files hold 0.5).
+  world_->set_max_overlap_ratio(config_.max_overlap_ratio);
   log_ << "resumed from " << file.string() << " at step " << world_->step_count() << " (stage "
        << static_cast<int>(stage_) << ", shear strain " << path_strain_ << ")\n";
 }

@@ -103,6 +103,9 @@ class World {
   const FacetWall& wall(WallId id) const { return walls_.at(static_cast<std::size_t>(id)); }
   const WorldSettings& settings() const { return settings_; }
   void set_local_damping(double alpha);
+  /// Overlap / smaller radius above which a step stops with InstabilityError (> 0). Restart files
+  /// carry it; a protocol that loads one can raise it again afterwards.
+  void set_max_overlap_ratio(double ratio);
   void set_gravity(const Vec3& g) { settings_.gravity = g; }
 
   /// Visits every touching contact of the last step.

@@ -50,6 +50,7 @@ struct SimpleShearConfig {
   double local_damping = 0.7;    // -
   double time_step = 0.0;        // s, 0: automatic
   double time_step_safety = 0.8; // -
+  double max_overlap_ratio = 1.0; // -, overlap / smaller radius that stops the run
   int threads = 0;               // 0: OMP_NUM_THREADS
   // generation (radius expansion)
   int expansion_stages = 8;
