@@ -366,13 +366,19 @@ std::vector<TrialResult> Calibration::evaluate(const std::vector<ContactFit>& ba
     ++p.asked;
     const double per_trial = p.new_trials > 0 ? p.new_seconds / p.new_trials : 0.0;
     const double left = per_trial * std::max(0, p.max_trials - p.asked) / settings_.parallel_trials;
-    const auto best = std::find_if(trials_.begin(), trials_.end(), [&](const TrialResult& x) { return x.fit == p.current; });
+    // The search's current point (best for its stage's feature) and, separately, the finished
+    // trial with the lowest objective: in stages 1-3 the two differ.
+    const auto current = std::find_if(trials_.begin(), trials_.end(), [&](const TrialResult& x) { return x.fit == p.current; });
+    const auto lowest = std::min_element(trials_.begin(), trials_.end(),
+                                         [&](const TrialResult& a, const TrialResult& b) { return objective(a) < objective(b); });
     std::ostringstream line;
     line << "trial " << p.asked << " of at most " << p.max_trials << ", stage " << stage_names[stage] << (reused ? ", reused" : "")
          << ": " << describe(t.fit) << ", mean RD " << short_number(t.stress_rd_mean, 3) << " %";
     if (t.volumetric_rd_mean >= 0) line << " (volumetric " << short_number(t.volumetric_rd_mean, 3) << " %)";
-    if (best != trials_.end())
-      line << " | best so far: " << describe(best->fit) << ", mean RD " << short_number(best->stress_rd_mean, 3) << " %";
+    if (current != trials_.end() && current->fit != t.fit) line << " | search at: " << describe(current->fit);
+    if (lowest != trials_.end())
+      line << " | best so far: trial " << lowest->trial << ", " << describe(lowest->fit) << ", mean RD "
+           << short_number(lowest->stress_rd_mean, 3) << " %";
     line << " | time left <= " << short_number(left / 60.0, 2) << " min (estimate)";
     log_ << line.str() << std::endl;
   };
