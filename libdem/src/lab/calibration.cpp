@@ -112,8 +112,8 @@ io::Schema calibration_schema() {
          .help = "initial slope: least squares through the origin on the lab points up to the strain where the stress first reaches this fraction of the lab peak", .min = 0.0, .max = 1.0, .min_exclusive = true});
   s.add({.key = "calibration.polish_step", .default_value = "0.1", .unit = "-", .help = "first step of stage 4, relative to mu and mu_r", .min = 0.0, .max = 1.0, .min_exclusive = true});
   s.add({.key = "calibration.polish_min_step", .default_value = "0.02", .unit = "-", .help = "stage 4 ends when its relative step is below this", .min = 0.0, .max = 1.0, .min_exclusive = true});
-  s.add({.key = "calibration.volumetric_weight", .default_value = "1", .unit = "-",
-         .help = "stage 4 minimises mean RD(shear stress) + this x mean RD(volumetric strain) (0: shear stress alone, as the study)", .min = 0.0});
+  s.add({.key = "calibration.volumetric_weight", .default_value = "0.2", .unit = "-",
+         .help = "stage 4 minimises mean RD(shear stress) + this x mean RD(volumetric strain); the study fits the stress curve first and the volumetric one as a minor factor (0: shear stress alone)", .min = 0.0});
   s.add({.key = "calibration.rolling_target", .type = ValueType::Text, .default_value = "auto", .unit = "-",
          .help = "what stage 3 matches with mu_r: peak (the study; stage 2 has matched it with mu already), dilatancy (late mean volumetric strain) or auto (dilatancy when the lab has volumetric strain)",
          .choices = {"auto", "peak", "dilatancy"}});

@@ -174,7 +174,7 @@ struct CalibrationSettings {
   double slope_stress_fraction = 0.3; // -, initial slope fitted up to this fraction of the lab peak
   double polish_step = 0.1;           // -, first step of stage 4, relative to mu and mu_r
   double polish_min_step = 0.02;      // -, stage 4 ends below this relative step
-  double volumetric_weight = 1.0;     // -, weight of the volumetric mean RD in the stage-4 objective
+  double volumetric_weight = 0.2;     // -, weight of the volumetric mean RD in the stage-4 objective
   /// What stage 3 matches with mu_r: the peak shear stress (the study), or the late dilatancy
   /// (mean volumetric strain over the last part of the lab's strain range). Auto: dilatancy when
   /// the lab curve has volumetric strain. Matching the peak with mu and then again with mu_r
