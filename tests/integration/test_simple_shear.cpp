@@ -65,7 +65,7 @@ TEST_CASE("simple shear: a reduced specimen runs end to end with consistent outp
   REQUIRE(h.rows.size() >= 10);
   const auto& first = h.rows.front();
   const auto& last = h.rows.back();
-  // After consolidation the servo holds 200 kPa within its 1 % tolerance (the brief asks 2 %).
+  // After consolidation the servo holds 200 kPa within its 1 % tolerance (checked at 2 %).
   CHECK(first[h.column("vertical_stress")] == Approx(200e3).epsilon(0.02));
   CHECK(last[h.column("shear_strain")] == Approx(0.03).epsilon(0.02));
   CHECK(last[h.column("shear_strain_y")] == Approx(0.0).margin(1e-12));  // one leg along +x

@@ -63,7 +63,7 @@ TEST_CASE("energy: a frictionless undamped granular gas keeps its total energy",
     world.step(2000);
     const double e = world.kinetic_energy() + elastic_energy(world, 2e4, 2e4);
     // Leapfrog keeps energy bounded with an O((omega dt)^2) oscillation during contacts; the
-    // half-step velocities add O(dt) within a contact. 0.5 % is the brief's bound.
+    // half-step velocities add O(dt) within a contact. 0.5 % is the bound we hold ourselves to.
     REQUIRE(e == Approx(e0).epsilon(5e-3));
   }
   // The gas really collides: a ball-ball collision lasts ~30 steps here, so this is > 100 collisions.
