@@ -5,7 +5,6 @@
 // second run in the same folder reuses every trial.
 #include <catch2/catch.hpp>
 
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -17,6 +16,8 @@
 #include <dem/io/json.hpp>
 #include <dem/lab/calibration.hpp>
 
+#include "support/temp_dir.hpp"
+
 using namespace dem;
 using namespace dem::lab;
 namespace fs = std::filesystem;
@@ -24,19 +25,7 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-// A fresh folder per test case, removed at its end.
-struct TempDir {
-  fs::path path;
-  explicit TempDir(const std::string& name)
-      : path(fs::temp_directory_path() / ("libdem_calibration_" + name + "_" + std::to_string(::getpid()))) {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path, ignored);
-  }
-};
+using dem::testing::TempDir;
 
 fs::path write_file(const fs::path& file, const std::string& text) {
   std::ofstream(file) << text;

@@ -3,13 +3,14 @@
 // shortest text that std::from_chars reads back as the same double.
 #include <catch2/catch.hpp>
 
-#include <unistd.h>
 
 #include <cmath>
 #include <fstream>
 
 #include "dem/core/errors.hpp"
 #include "dem/io/config.hpp"
+
+#include "support/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using Catch::Matchers::Contains;
@@ -18,6 +19,8 @@ using dem::io::KeySpec;
 using dem::io::ValueType;
 
 namespace {
+
+using dem::testing::TempDir;
 
 dem::io::Schema test_schema() {
   dem::io::Schema schema;
@@ -39,25 +42,6 @@ dem::io::Schema test_schema() {
             .unit = "Pa", .help = "target stresses", .min = 0.0});
   return schema;
 }
-
-// A fresh directory per test case, removed afterwards.
-struct TempDir {
-  fs::path path;
-  explicit TempDir(const std::string& tag)
-      : path(fs::temp_directory_path() /
-             ("libdem_test_config_" + tag + "_" + std::to_string(::getpid()))) {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path, ignored);
-  }
-  fs::path write(const std::string& name, const std::string& text) const {
-    std::ofstream(path / name) << text;
-    return path / name;
-  }
-};
 
 // The InputError message thrown by `action`, or "no error".
 template <class F>

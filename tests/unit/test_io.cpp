@@ -2,7 +2,6 @@
 // number is compared exactly: 17 significant digits make double -> text -> double the identity.
 #include <catch2/catch.hpp>
 
-#include <unistd.h>
 
 #include <fstream>
 #include <iterator>
@@ -14,25 +13,14 @@
 #include "dem/io/csv.hpp"
 #include "dem/io/vtk.hpp"
 
+#include "support/temp_dir.hpp"
+
 namespace fs = std::filesystem;
 using Catch::Matchers::Contains;
 
 namespace {
 
-// A fresh directory per test case, removed afterwards.
-struct TempDir {
-  fs::path path;
-  explicit TempDir(const std::string& tag)
-      : path(fs::temp_directory_path() /
-             ("libdem_test_io_" + tag + "_" + std::to_string(::getpid()))) {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path, ignored);
-  }
-};
+using dem::testing::TempDir;
 
 std::string slurp(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);

@@ -3,7 +3,6 @@
 // every contact, its bin in each rose plane and its force kn * overlap are known in advance.
 #include <catch2/catch.hpp>
 
-#include <unistd.h>
 
 #include <cmath>
 #include <complex>
@@ -20,6 +19,8 @@
 
 #include "support/scenes.hpp"
 
+#include "support/temp_dir.hpp"
+
 using namespace dem;
 using namespace dem::testing;
 using Catch::Matchers::Contains;
@@ -27,18 +28,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct TempDir {
-  fs::path path;
-  explicit TempDir(const std::string& tag)
-      : path(fs::temp_directory_path() / ("libdem_test_outputs_" + tag + "_" + std::to_string(::getpid()))) {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path, ignored);
-  }
-};
+using dem::testing::TempDir;
 
 std::string slurp(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);

@@ -34,16 +34,9 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-std::string short_number(double v, int digits = 4) {
-  std::ostringstream out;
-  out.precision(digits);
-  out << v;
-  return out.str();
-}
-
 std::string describe(const ContactFit& f) {
-  return "E* = " + short_number(f.effective_modulus) + " Pa, mu = " + short_number(f.friction) + ", mu_r = " +
-         short_number(f.rolling_friction);
+  return "E* = " + detail::short_text(f.effective_modulus) + " Pa, mu = " + detail::short_text(f.friction) + ", mu_r = " +
+         detail::short_text(f.rolling_friction);
 }
 
 // FNV-1a of a file's bytes: a stable fingerprint of the lab curve and a --from restart.
@@ -373,13 +366,13 @@ std::vector<TrialResult> Calibration::evaluate(const std::vector<ContactFit>& ba
                                          [&](const TrialResult& a, const TrialResult& b) { return objective(a) < objective(b); });
     std::ostringstream line;
     line << "trial " << p.asked << " of at most " << p.max_trials << ", stage " << stage_names[stage] << (reused ? ", reused" : "")
-         << ": " << describe(t.fit) << ", mean RD " << short_number(t.stress_rd_mean, 3) << " %";
-    if (t.volumetric_rd_mean >= 0) line << " (volumetric " << short_number(t.volumetric_rd_mean, 3) << " %)";
+         << ": " << describe(t.fit) << ", mean RD " << detail::short_text(t.stress_rd_mean, 3) << " %";
+    if (t.volumetric_rd_mean >= 0) line << " (volumetric " << detail::short_text(t.volumetric_rd_mean, 3) << " %)";
     if (current != trials_.end() && current->fit != t.fit) line << " | search at: " << describe(current->fit);
     if (lowest != trials_.end())
       line << " | best so far: trial " << lowest->trial << ", " << describe(lowest->fit) << ", mean RD "
-           << short_number(lowest->stress_rd_mean, 3) << " %";
-    line << " | time left <= " << short_number(left / 60.0, 2) << " min (estimate)";
+           << detail::short_text(lowest->stress_rd_mean, 3) << " %";
+    line << " | time left <= " << detail::short_text(left / 60.0, 2) << " min (estimate)";
     log_ << line.str() << std::endl;
   };
   for (std::size_t i = 0; i < batch.size(); ++i)
@@ -433,11 +426,11 @@ CalibrationResult Calibration::run() {
   p.current = start_;
   CalibrationResult result;
   int cycle = 1;
-  log_ << "lab curve: " << lab_.size() << " points to shear strain " << short_number(lab_.max_strain()) << ", peak "
-       << short_number(lab_peak_ / 1e3) << " kPa, initial slope " << short_number(lab_slope_ / 1e6) << " MPa (up to strain "
-       << short_number(slope_limit_) << ")";
+  log_ << "lab curve: " << lab_.size() << " points to shear strain " << detail::short_text(lab_.max_strain()) << ", peak "
+       << detail::short_text(lab_peak_ / 1e3) << " kPa, initial slope " << detail::short_text(lab_slope_ / 1e6) << " MPa (up to strain "
+       << detail::short_text(slope_limit_) << ")";
   if (rolling_by_dilatancy_)
-    log_ << ", late dilatancy " << short_number(lab_dilatancy_, 3) << " (from strain " << short_number(s.dilatancy_from * lab_.max_strain())
+    log_ << ", late dilatancy " << detail::short_text(lab_dilatancy_, 3) << " (from strain " << detail::short_text(s.dilatancy_from * lab_.max_strain())
          << "; stage 3 matches it with mu_r)";
   else
     log_ << "; stage 3 matches the peak with mu_r";
@@ -491,7 +484,7 @@ CalibrationResult Calibration::run() {
       if (u == best_u) p.current.*member = v;
     result.stage_notes.push_back((s.cycles > 1 ? "cycle " + std::to_string(cycle) + ", " : std::string()) + "stage " +
                                  std::string(stage_names[stage]) + ": " + describe(p.current) + ", mismatch " +
-                                 short_number(search.best_value(), 3) + " after " + std::to_string(search.evaluations()) +
+                                 detail::short_text(search.best_value(), 3) + " after " + std::to_string(search.evaluations()) +
                                  " trial(s); " + search.reason());
     log_ << result.stage_notes.back() << std::endl;
   };
@@ -566,7 +559,7 @@ CalibrationResult Calibration::run() {
       for (std::size_t d = 0; d < members.size(); ++d) p.current.*members[d] = search.best()[d];
     }
     result.stage_notes.push_back("stage " + std::string(stage_names[4]) + ": " + describe(p.current) + ", objective " +
-                                 short_number(search.best_value(), 3) + " % after " + std::to_string(search.evaluations()) +
+                                 detail::short_text(search.best_value(), 3) + " % after " + std::to_string(search.evaluations()) +
                                  " trial(s); " + search.reason());
     log_ << result.stage_notes.back() << std::endl;
   }
@@ -600,7 +593,7 @@ void Calibration::write_outputs(const CalibrationResult& result) {
   const io::Config calibrated = shear_config_with(config_, result.best);
   io::write_atomically(out_dir_ / "calibrated.ini", [&](std::ostream& out) {
     out << "# dem-calibrate: ball_ball parameters fitted to " << lab_.file.string() << " (trial " << best.trial
-        << ", mean RD of shear stress " << short_number(best.stress_rd_mean, 3) << " %)\n"
+        << ", mean RD of shear stress " << detail::short_text(best.stress_rd_mean, 3) << " %)\n"
         << calibrated.to_ini();
   });
 

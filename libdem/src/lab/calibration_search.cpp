@@ -8,24 +8,16 @@
 #include <dem/core/errors.hpp>
 
 namespace dem::lab {
-namespace {
 
-std::string format(double v) {
-  std::ostringstream out;
-  out.precision(4);
-  out << v;
-  return out.str();
-}
-
-}  // namespace
+using detail::short_text;
 
 // ---------------------------------------------------------------- RootSearch
 
 RootSearch::RootSearch(Settings settings) : s_(settings) {
-  require(std::isfinite(s_.lower) && std::isfinite(s_.upper) && s_.lower < s_.upper, "root search bounds", format(s_.lower) + ", " + format(s_.upper),
+  require(std::isfinite(s_.lower) && std::isfinite(s_.upper) && s_.lower < s_.upper, "root search bounds", short_text(s_.lower) + ", " + short_text(s_.upper),
           "finite with lower < upper");
   require(s_.start >= s_.lower && s_.start <= s_.upper, "root search start", s_.start,
-          "within [" + format(s_.lower) + ", " + format(s_.upper) + "]");
+          "within [" + short_text(s_.lower) + ", " + short_text(s_.upper) + "]");
   require_positive("root search first_step", s_.first_step);
   require_positive("root search max_step", s_.max_step);
   require_positive("root search slope_guess", s_.slope_guess);
@@ -36,7 +28,7 @@ RootSearch::RootSearch(Settings settings) : s_(settings) {
 }
 
 void RootSearch::seed(double u, double g) {
-  require(std::isfinite(u) && std::isfinite(g), "root search seed", format(u) + ", " + format(g), "finite");
+  require(std::isfinite(u) && std::isfinite(g), "root search seed", short_text(u) + ", " + short_text(g), "finite");
   const auto at = std::lower_bound(points_.begin(), points_.end(), u, [](const Point& p, double x) { return p.u < x; });
   points_.insert(at, Point{u, g});
   check_done();
@@ -64,10 +56,10 @@ void RootSearch::finish(const std::string& why) {
 
 void RootSearch::check_done() {
   if (done_ || points_.empty()) return;
-  if (std::abs(best_value()) <= s_.tolerance) return finish("converged: |mismatch| = " + format(std::abs(best_value())) + " <= " + format(s_.tolerance));
+  if (std::abs(best_value()) <= s_.tolerance) return finish("converged: |mismatch| = " + short_text(std::abs(best_value())) + " <= " + short_text(s_.tolerance));
   for (std::size_t i = 0; i + 1 < points_.size(); ++i)
     if (points_[i].g * points_[i + 1].g < 0 && points_[i + 1].u - points_[i].u <= s_.u_tolerance)
-      return finish("converged: bracket narrower than " + format(s_.u_tolerance));
+      return finish("converged: bracket narrower than " + short_text(s_.u_tolerance));
   if (evaluations_ >= s_.max_evaluations) finish("trial budget of the stage used");
 }
 
@@ -127,14 +119,14 @@ std::vector<double> RootSearch::propose() {
                        std::any_of(batch.begin(), batch.end(), [&](double v) { return std::abs(v - u) <= same; });
     if (!known && static_cast<int>(batch.size()) < s_.max_evaluations - evaluations_) batch.push_back(u);
   }
-  if (batch.empty()) finish("no new point within the bounds [" + format(s_.lower) + ", " + format(s_.upper) + "]");
+  if (batch.empty()) finish("no new point within the bounds [" + short_text(s_.lower) + ", " + short_text(s_.upper) + "]");
   return batch;
 }
 
 void RootSearch::tell(const std::vector<double>& u, const std::vector<double>& g) {
   require(u.size() == g.size(), "root search values", g.size(), "one per point (" + std::to_string(u.size()) + ")");
   for (std::size_t k = 0; k < u.size(); ++k) {
-    require(std::isfinite(u[k]) && std::isfinite(g[k]), "root search value", format(u[k]) + ", " + format(g[k]), "finite");
+    require(std::isfinite(u[k]) && std::isfinite(g[k]), "root search value", short_text(u[k]) + ", " + short_text(g[k]), "finite");
     const auto at = std::lower_bound(points_.begin(), points_.end(), u[k], [](const Point& p, double x) { return p.u < x; });
     points_.insert(at, Point{u[k], g[k]});
   }
@@ -151,7 +143,7 @@ PatternSearch::PatternSearch(Settings settings) : s_(std::move(settings)) {
     require(v->size() == n, "pattern search settings size", v->size(), "one per dimension (" + std::to_string(n) + ")");
   for (std::size_t d = 0; d < n; ++d) {
     require(s_.lower[d] <= s_.start[d] && s_.start[d] <= s_.upper[d], "pattern search start", s_.start[d],
-            "within [" + format(s_.lower[d]) + ", " + format(s_.upper[d]) + "]");
+            "within [" + short_text(s_.lower[d]) + ", " + short_text(s_.upper[d]) + "]");
     require_positive("pattern search step", s_.step[d]);
     require_positive("pattern search min_step", s_.min_step[d]);
   }

@@ -23,6 +23,13 @@ namespace fs = std::filesystem;
 namespace dem::lab {
 namespace detail {
 
+std::string short_text(double v, int digits) {
+  std::ostringstream out;
+  out.precision(digits);
+  out << v;
+  return out.str();
+}
+
 std::string exact_text(double v) {
   char buffer[32];
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, v);

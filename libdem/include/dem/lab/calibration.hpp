@@ -325,6 +325,8 @@ std::optional<CalibrationCommandLine> parse_calibration_command_line(int argc, c
 namespace detail {
 /// The shortest text that reads back as the same double (trials.csv keys, folder names).
 std::string exact_text(double v);
+/// `digits` significant digits, for progress lines and messages.
+std::string short_text(double v, int digits = 4);
 /// Runs job(0), ..., job(n - 1), `workers` at a time on std::threads. Every job runs even if
 /// another fails; then the exception of the lowest failed index is rethrown, so which error is
 /// reported does not depend on timing.
