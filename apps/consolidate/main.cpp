@@ -1,7 +1,10 @@
 // dem-consolidate: makes the specimen and consolidates it, leaving consolidated.restart in --out,
-// from which dem-simple-shear --from shears the same specimen in as many ways as wanted.
+// from which dem-simple-shear --from shears the same specimen in as many ways as wanted. Given a
+// consolidated specimen (--from), it consolidates that packing again with this configuration's
+// contact parameters (e.g. another E*).
 #include <exception>
 #include <iostream>
+#include <string>
 
 #include <dem/core/errors.hpp>
 #include <dem/lab/shear_cli.hpp>
@@ -16,6 +19,10 @@ int main(int argc, char** argv) {
     if (!cli->from.empty()) test.load_restart(cli->from);
     if (test.stage() == dem::lab::ShearStage::Empty) test.generate();
     if (test.stage() == dem::lab::ShearStage::Generated) test.consolidate();
+    else if (test.stage() == dem::lab::ShearStage::Consolidated) test.reconsolidate();
+    else
+      throw dem::InputError("--from " + cli->from.string() + ": stage " + std::to_string(static_cast<int>(test.stage())) +
+                            " (shearing or sheared): must be a restart after generation (1) or consolidation (2)");
     test.write_summary(cli->resolved_json);
     std::cout << "consolidated specimen: " << (cli->out_dir / "consolidated.restart").string()
               << "\nshear it with: dem-simple-shear --from " << (cli->out_dir / "consolidated.restart").string() << "\n";

@@ -288,8 +288,11 @@ TEST_CASE("calibration: parallel trials give the same trials as serial ones, fro
   REQUIRE(fs::exists(consolidated));
   CalibrationSettings settings = calibration_settings(start);
   std::ostringstream log;
+  // A new packing per E* needs the generated state, which a consolidated restart no longer holds.
+  settings.modulus_specimen = ModulusSpecimen::Generated;
   CHECK_THROWS_WITH(Calibration(start, settings, read_lab_curve(lab_file), dir / "refused", consolidated, log),
-                    Contains("--from") && Contains("E* is fitted"));
+                    Contains("--from") && Contains("E* is fitted") && Contains("modulus_specimen"));
+  settings.modulus_specimen = ModulusSpecimen::Reconsolidated;
 
   parse_fit_list("friction", settings);
   std::vector<io::CsvData> runs;
@@ -315,18 +318,18 @@ TEST_CASE("calibration: parallel trials give the same trials as serial ones, fro
   CHECK(best[0].friction == Approx(truth.friction).epsilon(0.10));
 }
 
-TEST_CASE("calibration: mu and mu_r are both recovered from 40 % away on the 4D specimen with a known E*",
+TEST_CASE("calibration: E*, mu and mu_r are recovered together from 40 % away on the 4D specimen",
           "[calibration]") {
-  // The whole 4D preset specimen (1,712 balls), consolidated once with the starting mu and mu_r at
-  // the true E*; the lab curve shears it with the true mu and mu_r to 20 %. Stage 2 matches the
-  // peak with mu, stage 3 the late dilatancy with mu_r, stage 4 both on the whole curve. With the
-  // study's rule (the peak in stages 2 and 3, shear stress alone in stage 4) a run like this one
-  // ends at mu 0.58 (+17 %) and mu_r 0.26 (-34 %). Here stages 1-3 reach 0.524 / 0.401 and the
-  // stage-4 polish, on a rough objective, ends at 0.498 / 0.361 (-0.4 %, -9.8 %): the tolerance is
-  // the issue's 10 %, and the result is deterministic (same seed and thread counts). When E* is
-  // fitted too, every E* is consolidated into another packing, and that packing noise is larger
-  // than the effect of mu_r on this specimen (see the calibration notes in README).
-  const TempDir temp("mu_mu_r");
+  // The whole 4D preset specimen (1,712 balls). The lab curve is made the way the calibration
+  // makes its trials: the specimen consolidated at the starting E*, consolidated again at the
+  // true E* (calibration.modulus_specimen = reconsolidated), sheared with the true mu and mu_r to
+  // 20 %. Starting 40 % away on all three, stages 1-3 (three cycles) reach E* 1.177e7, mu 0.514,
+  // mu_r 0.376 and the stage-4 polish keeps them: -1.9 %, +2.8 %, -6.0 %, shear-stress RD 0.42 %,
+  // 34 trials, about 3 min on 2 cores. The tolerance is the issue's 10 %. With a new packing per
+  // E* (modulus_specimen = generated) the same run cannot get there: E* lands 0.5 % off, and the
+  // other packing changes the curve more than a 20 % change of mu_r does on 1,712 balls. With the
+  // study's rule for stage 3 (the peak again) mu_r stays where it started.
+  const TempDir temp("joint");
   const fs::path& dir = temp.path;
   const ContactFit truth{1.2e7, 0.5, 0.4};
   io::Config start(calibration_schema());
@@ -334,22 +337,21 @@ TEST_CASE("calibration: mu and mu_r are both recovered from 40 % away on the 4D 
   start.set("output.fabric_strains", "");
   start.set("output.snapshot_strains", "");
   start.set("engine.threads", "2");
-  start.set("ball_ball.friction", "0.3");          // -40 %
-  start.set("ball_ball.rolling_friction", "0.24");  // -40 %
+  start.set("ball_ball.effective_modulus", "1.68e7");  // +40 %
+  start.set("ball_ball.friction", "0.3");               // -40 %
+  start.set("ball_ball.rolling_friction", "0.24");      // -40 %
   const fs::path lab_file = make_lab_curve(start, truth, 0.2, dir);
-  fs::path consolidated;
-  for (const auto& entry : fs::directory_iterator(dir / "maker" / "specimen"))
-    if (entry.path().filename().string().rfind("E_", 0) == 0) consolidated = entry.path() / "consolidated.restart";
+  const fs::path consolidated = dir / "maker" / "specimen" / "E_16800000" / "consolidated.restart";
   REQUIRE(fs::exists(consolidated));
 
   CalibrationSettings settings = calibration_settings(start);
-  parse_fit_list("friction,rolling", settings);
   settings.threads = 2;
   settings.parallel_trials = 2;
   std::ostringstream log;
   Calibration calibration(start, settings, read_lab_curve(lab_file), dir / "cal", consolidated, log);
   const CalibrationResult result = calibration.run();
   INFO(log.str());
+  CHECK(result.best.effective_modulus == Approx(truth.effective_modulus).epsilon(0.10));
   CHECK(result.best.friction == Approx(truth.friction).epsilon(0.10));
   CHECK(result.best.rolling_friction == Approx(truth.rolling_friction).epsilon(0.10));
   CHECK(result.best_trial.stress_rd_mean < 3.0);

@@ -112,6 +112,9 @@ io::Schema calibration_schema() {
          .choices = {"auto", "peak", "dilatancy"}});
   s.add({.key = "calibration.dilatancy_from", .default_value = "0.8", .unit = "-",
          .help = "late dilatancy: mean volumetric strain over the lab points from this fraction of the largest lab strain", .min = 0.0, .max = 0.99});
+  s.add({.key = "calibration.modulus_specimen", .type = ValueType::Text, .default_value = "reconsolidated", .unit = "-",
+         .help = "specimen of an E* other than the starting one: reconsolidated (the starting E*'s consolidated specimen consolidated again at the new E*: same packing, so nearby E* give nearby curves) or generated (consolidated afresh from the generated state: a new packing per E*)",
+         .choices = {"reconsolidated", "generated"}});
   s.add({.key = "calibration.eps_stress", .default_value = "1000", .unit = "Pa", .help = "lab shear stresses with |value| below this are skipped by the relative difference", .min = 0.0});
   s.add({.key = "calibration.eps_strain", .default_value = "1e-4", .unit = "-", .help = "lab volumetric strains with |value| below this are skipped by the relative difference", .min = 0.0});
   return s;
@@ -142,6 +145,7 @@ CalibrationSettings calibration_settings(const io::Config& c) {
                      : target == "dilatancy" ? CalibrationSettings::RollingTarget::Dilatancy
                                              : CalibrationSettings::RollingTarget::Auto;
   s.dilatancy_from = c.real("calibration.dilatancy_from");
+  s.modulus_specimen = c.text("calibration.modulus_specimen") == "generated" ? ModulusSpecimen::Generated : ModulusSpecimen::Reconsolidated;
   s.comparison.eps_stress = c.real("calibration.eps_stress");
   s.comparison.eps_strain = c.real("calibration.eps_strain");
   return s;
@@ -250,7 +254,7 @@ Calibration::Calibration(io::Config config, CalibrationSettings settings, LabCur
     log_ << "resuming: " << trials_.size() << " finished trial(s) in " << (out_dir_ / "trials.csv").string() << "\n";
   }
   io::write_atomically(setup_file, [&](std::ostream& out) { out << setup; });
-  shears_ = std::make_unique<ShearTrials>(std::move(shear), out_dir_, from, settings_.fit_modulus, log_);
+  shears_ = std::make_unique<ShearTrials>(std::move(shear), out_dir_, from, settings_.fit_modulus, log_, settings_.modulus_specimen);
 }
 
 Calibration::~Calibration() = default;
@@ -261,7 +265,8 @@ std::string Calibration::setup_text() const {
   std::ostringstream out;
   out << "lab " << file_hash(lab_.file) << " max_strain " << detail::exact_text(lab_.max_strain()) << "\n"
       << "eps_stress " << detail::exact_text(settings_.comparison.eps_stress) << " eps_strain " << detail::exact_text(settings_.comparison.eps_strain)
-      << " slope_stress_fraction " << detail::exact_text(settings_.slope_stress_fraction) << "\n";
+      << " slope_stress_fraction " << detail::exact_text(settings_.slope_stress_fraction) << "\n"
+      << "modulus_specimen " << (settings_.modulus_specimen == ModulusSpecimen::Generated ? "generated" : "reconsolidated") << "\n";
   std::istringstream ini(shear_config_with(config_, start_).to_ini());
   for (std::string line; std::getline(ini, line);) {
     if (line.empty() || line.front() == '#') continue;
@@ -666,7 +671,7 @@ std::optional<CalibrationCommandLine> parse_calibration_command_line(int argc, c
   opts.add_options()("lab", po::value<std::string>(), "laboratory curve, CSV (format below); required")(
       "out,o", po::value<std::string>()->default_value("runs/calibration"), "output folder; run again with the same folder to resume")(
       "fit", po::value<std::string>()->default_value("emod,friction,rolling"), "parameters to fit: comma-separated emod (E*), friction (mu), rolling (mu_r)")(
-      "from", po::value<std::string>(), "restart file of the specimen: right after generation, or consolidated (dem-consolidate; then E* cannot be fitted)")(
+      "from", po::value<std::string>(), "restart file of the specimen: right after generation, or consolidated with the starting E* (dem-consolidate)")(
       "parallel-trials", po::value<int>()->default_value(1), "trials run at the same time, each with threads/parallel-trials threads; results do not depend on it")(
       "strain-percent", "strain columns of the lab CSV without a _percent suffix are in % (never guessed)")(
       "eps-stress", po::value<double>(), "Pa: lab shear stresses with |value| below this are skipped by the relative difference (calibration.eps_stress, default 1000)")(
@@ -677,13 +682,14 @@ std::optional<CalibrationCommandLine> parse_calibration_command_line(int argc, c
     out << "dem-calibrate: fits the ball-ball contact parameters E*, mu and mu_r so that a simulated simple-shear curve\n"
            "matches a laboratory one, in the study's four stages: (1) E* from the initial slope of shear stress against\n"
            "strain, (2) mu from the peak shear stress, (3) mu_r from the peak, (4) mu and mu_r together on the mean\n"
-           "relative difference of the whole curve. The specimen is generated once and consolidated once per E*; every\n"
+           "relative difference of the whole curve. The specimen is generated and consolidated once, and again per E*; every\n"
            "trial shears it along the first shear direction to the lab's largest strain.\n\n"
            "Usage: dem-calibrate --lab lab.csv [--preset 4D] [--config FILE] [--set key=value ...] [--out DIR]\n"
            "                     [--fit emod,friction,rolling] [--from FILE] [--threads N] [--parallel-trials N]\n\n"
         << opts << "\nLab curve (--lab), CSV: " << lab_curve_columns_help
-        << "\nSpecimen: generated once (or --from), then consolidated once per E* with the starting mu and mu_r; every\n"
-           "trial of that E* loads it with its own mu and mu_r. History rows every min(output.every_strain, largest lab\n"
+        << "\nSpecimen: generated once (or --from), consolidated with the starting E*, mu and mu_r, and consolidated again\n"
+           "at each other E* (same packing; calibration.modulus_specimen); every trial of an E* loads its specimen with its\n"
+           "own mu and mu_r. History rows every min(output.every_strain, largest lab\n"
            "strain / 50). Stages 1-3 are repeated calibration.cycles times (the initial slope also depends on mu).\n"
            "\nOutputs in --out: trials.csv (one row per finished trial: stage, parameters, max/mean relative difference of\n"
            "shear stress and volumetric strain in % (-1: no volumetric strain), initial slope and peak of the model, seconds),\n"

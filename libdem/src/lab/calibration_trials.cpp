@@ -67,30 +67,11 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// The files a SimpleShearTest reads back when it resumes from a restart written in `from`:
-// history.csv, fabric.csv and snapshots/ (hard links where possible: they are only read, and
-// every writer replaces files by renaming, which leaves the originals alone).
-void copy_run_files(const fs::path& from, const fs::path& to) {
-  fs::create_directories(to);
-  for (const char* name : {"history.csv", "fabric.csv"})
-    if (fs::exists(from / name)) fs::copy_file(from / name, to / name, fs::copy_options::overwrite_existing);
-  if (!fs::exists(from / "snapshots")) return;
-  std::error_code linked;
-  fs::copy(from / "snapshots", to / "snapshots", fs::copy_options::recursive | fs::copy_options::create_hard_links, linked);
-  if (linked) {
-    fs::remove_all(to / "snapshots");
-    fs::copy(from / "snapshots", to / "snapshots", fs::copy_options::recursive);
-  }
-}
-
 }  // namespace
 
-struct ShearTrials::Specimen {
-  fs::path restart, files;  // consolidated restart and the folder of the files it refers to
-};
-
-ShearTrials::ShearTrials(SimpleShearConfig base, fs::path out_dir, fs::path from, bool fit_modulus, std::ostream& log)
-    : base_(std::move(base)), out_dir_(std::move(out_dir)), log_(log) {
+ShearTrials::ShearTrials(SimpleShearConfig base, fs::path out_dir, fs::path from, bool fit_modulus, std::ostream& log,
+                         ModulusSpecimen rule)
+    : base_(std::move(base)), out_dir_(std::move(out_dir)), log_(log), rule_(rule) {
   // Trials need neither roses nor snapshots nor periodic restarts: only the history.
   base_.fabric_strains.clear();
   base_.snapshot_strains.clear();
@@ -104,7 +85,6 @@ ShearTrials::ShearTrials(SimpleShearConfig base, fs::path out_dir, fs::path from
   // Which stage does the restart hold? Load it once in a scratch folder.
   const fs::path probe = out_dir_ / "specimen" / "probe";
   fs::remove_all(probe);
-  copy_run_files(from.parent_path(), probe);
   ShearStage stage = ShearStage::Empty;
   {
     std::ofstream sink(probe / "log.txt");
@@ -123,11 +103,10 @@ ShearTrials::ShearTrials(SimpleShearConfig base, fs::path out_dir, fs::path from
     generated_restart_ = from;
     generated_files_ = from.parent_path();
   } else if (stage == ShearStage::Consolidated) {
-    require(!fit_modulus, "--from", from.string() + " (a consolidated specimen)",
-            "a restart right after generation when E* is fitted (a consolidated specimen holds the stresses of one E*); "
-            "fit without emod, or drop --from");
+    require(!fit_modulus || rule_ == ModulusSpecimen::Reconsolidated, "--from", from.string() + " (a consolidated specimen)",
+            "a restart right after generation when E* is fitted with calibration.modulus_specimen = generated (every E* "
+            "is then consolidated from the generated state); use modulus_specimen = reconsolidated, fit without emod, or drop --from");
     given_consolidated_ = from;
-    given_files_ = from.parent_path();
   } else {
     throw InputError("--from " + from.string() + ": stage " + std::to_string(static_cast<int>(stage)) +
                      ": must be a restart after generation (1) or consolidation (2), e.g. dem-consolidate's consolidated.restart");
@@ -153,26 +132,58 @@ fs::path ShearTrials::trial_dir(int number) const {
   return out_dir_ / "trials" / name.str();
 }
 
+fs::path ShearTrials::specimen_restart(double modulus) const {
+  if (!given_consolidated_.empty() && modulus == base_.ball_ball.effective_modulus) return given_consolidated_;
+  return specimen_dir(modulus) / "consolidated.restart";
+}
+
 std::vector<double> ShearTrials::prepare(const std::vector<double>& moduli, int parallel, int threads) {
   std::vector<double> seconds(moduli.size(), 0.0);
-  if (!given_consolidated_.empty()) {
+  const double start_modulus = base_.ball_ball.effective_modulus;
+  if (!given_consolidated_.empty() && rule_ == ModulusSpecimen::Generated) {
     for (double m : moduli)
-      require(m == base_.ball_ball.effective_modulus, "trial E*", m, "the E* of the --from specimen, " + detail::exact_text(base_.ball_ball.effective_modulus));
+      require(m == start_modulus, "trial E*", m, "the E* of the --from specimen, " + detail::exact_text(start_modulus));
     return seconds;
   }
   std::vector<std::size_t> todo;
   for (std::size_t i = 0; i < moduli.size(); ++i) {
     const bool first = std::find(moduli.begin(), moduli.begin() + static_cast<std::ptrdiff_t>(i), moduli[i]) == moduli.begin() + static_cast<std::ptrdiff_t>(i);
-    if (first && !fs::exists(specimen_dir(moduli[i]) / "consolidated.restart")) todo.push_back(i);
+    if (first && !fs::exists(specimen_restart(moduli[i]))) todo.push_back(i);
   }
   if (todo.empty()) return seconds;
+
+  // Reconsolidated specimens start from the one of the starting E*: make that first.
+  const bool from_reference = rule_ == ModulusSpecimen::Reconsolidated;
+  double reference_seconds = 0.0;
+  if (from_reference && !fs::exists(specimen_restart(start_modulus))) {
+    const auto t0 = std::chrono::steady_clock::now();
+    generate_once(parallel * threads);
+    consolidate_from_generated(start_modulus, parallel * threads);
+    reference_seconds = seconds_since(t0);
+  }
+  if (!from_reference) generate_once(parallel * threads);
+  detail::run_parallel(todo.size(), parallel, [&](std::size_t k) {
+    const std::size_t i = todo[k];
+    const auto t0 = std::chrono::steady_clock::now();
+    if (from_reference) {
+      if (moduli[i] != start_modulus) reconsolidate_from_reference(moduli[i], threads);
+    } else {
+      consolidate_from_generated(moduli[i], threads);
+    }
+    seconds[i] = seconds_since(t0);
+  });
+  if (from_reference) seconds[todo.front()] += reference_seconds;
+  return seconds;
+}
+
+void ShearTrials::generate_once(int threads) {
   if (!fs::exists(generated_restart_)) {
     const auto t0 = std::chrono::steady_clock::now();
     fs::remove_all(generated_files_);
     fs::create_directories(generated_files_);
     std::ofstream log(generated_files_ / "log.txt");
     SimpleShearTest test(config_for({base_.ball_ball.effective_modulus, base_.ball_ball.friction, base_.ball_ball.rolling_friction},
-                                    parallel * threads),
+                                    threads),
                          generated_files_, log);
     test.generate();
     test.save_restart(generated_restart_);
@@ -182,37 +193,41 @@ std::vector<double> ShearTrials::prepare(const std::vector<double>& moduli, int 
          << ")\n";
     log_ << line.str() << std::flush;
   }
-  detail::run_parallel(todo.size(), parallel, [&](std::size_t k) {
-    const std::size_t i = todo[k];
-    const auto t0 = std::chrono::steady_clock::now();
-    const fs::path dir = specimen_dir(moduli[i]);
-    fs::remove_all(dir);
-    copy_run_files(generated_files_, dir);
-    std::ofstream log(dir / "log.txt");
-    // Consolidation with this E* and the starting mu and mu_r, so that a specimen depends on E* only.
-    SimpleShearTest test(config_for({moduli[i], base_.ball_ball.friction, base_.ball_ball.rolling_friction}, threads), dir, log);
-    test.load_restart(generated_restart_);
-    test.consolidate();  // writes dir/consolidated.restart last: its presence marks a finished specimen
-    seconds[i] = seconds_since(t0);
-  });
-  return seconds;
+}
+
+void ShearTrials::consolidate_from_generated(double modulus, int threads) {
+  const fs::path dir = specimen_dir(modulus);
+  fs::remove_all(dir);
+  std::ofstream log(dir / "log.txt");
+  // Consolidation with this E* and the starting mu and mu_r, so that a specimen depends on E* only.
+  SimpleShearTest test(config_for({modulus, base_.ball_ball.friction, base_.ball_ball.rolling_friction}, threads), dir, log);
+  test.load_restart(generated_restart_);
+  test.consolidate();  // writes dir/consolidated.restart last: its presence marks a finished specimen
+}
+
+void ShearTrials::reconsolidate_from_reference(double modulus, int threads) {
+  const double start_modulus = base_.ball_ball.effective_modulus;
+  const fs::path reference = specimen_restart(start_modulus);
+  const fs::path dir = specimen_dir(modulus);
+  fs::remove_all(dir);
+  std::ofstream log(dir / "log.txt");
+  SimpleShearTest test(config_for({modulus, base_.ball_ball.friction, base_.ball_ball.rolling_friction}, threads), dir, log);
+  test.load_restart(reference);
+  test.reconsolidate();  // writes dir/consolidated.restart last
 }
 
 ModelCurve ShearTrials::shear(const ContactFit& fit, double strain, int number, int threads) const {
-  const Specimen specimen = given_consolidated_.empty()
-                                ? Specimen{specimen_dir(fit.effective_modulus) / "consolidated.restart", specimen_dir(fit.effective_modulus)}
-                                : Specimen{given_consolidated_, given_files_};
-  require(fs::exists(specimen.restart), "consolidated specimen", specimen.restart.string(), "prepared before the trial (ShearTrials::prepare)");
+  const fs::path restart = specimen_restart(fit.effective_modulus);
+  require(fs::exists(restart), "consolidated specimen", restart.string(), "prepared before the trial (ShearTrials::prepare)");
   const fs::path dir = trial_dir(number);
   fs::remove_all(dir);
-  copy_run_files(specimen.files, dir);
   SimpleShearConfig c = config_for(fit, threads);
   c.legs = {{base_.legs.front().direction_deg, strain}};
   {
     std::ofstream log(dir / "log.txt");
     SimpleShearTest test(c, dir, log);
-    test.load_restart(specimen.restart);
-    require(test.stage() == ShearStage::Consolidated, "stage of " + specimen.restart.string(), static_cast<int>(test.stage()),
+    test.load_restart(restart);
+    require(test.stage() == ShearStage::Consolidated, "stage of " + restart.string(), static_cast<int>(test.stage()),
             "2 (consolidated)");
     test.shear();
   }

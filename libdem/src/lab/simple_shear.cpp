@@ -213,6 +213,17 @@ void SimpleShearTest::consolidate() {
   save_restart(out_dir_ / "consolidated.restart");
 }
 
+void SimpleShearTest::reconsolidate() {
+  require(stage_ == ShearStage::Consolidated, "reconsolidate() stage", static_cast<int>(stage_), "2 (consolidated)");
+  world_->update_time_step();  // the restart's step belongs to the stiffness it was written with
+  stage_ = ShearStage::Generated;
+  if (servo_) {
+    servo_->hold_position(false);
+    servo_->set_max_speed(config_.servo_max_speed);  // the consolidation's cap, not the shear's
+  }
+  consolidate();
+}
+
 ServoSettings SimpleShearTest::servo_settings() const {
   ServoSettings servo;
   servo.target_stress = config_.vertical_stress;

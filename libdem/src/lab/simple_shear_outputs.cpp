@@ -26,6 +26,32 @@ std::string label_for(double strain) {
   return s;
 }
 
+
+// The files a run reads back when it resumes from a restart written in another folder:
+// history.csv, fabric.csv and snapshots/ (hard links where possible: they are only read, and
+// every writer replaces files by renaming, which leaves the originals alone). The resumed run then
+// trims them to the restart point, as it does in the restart's own folder.
+void copy_run_files(const std::filesystem::path& from, const std::filesystem::path& to) {
+  namespace fs = std::filesystem;
+  fs::create_directories(to);
+  for (const char* name : {"history.csv", "fabric.csv"})
+    if (fs::exists(from / name)) fs::copy_file(from / name, to / name, fs::copy_options::overwrite_existing);
+  if (!fs::exists(from / "snapshots")) return;
+  fs::remove_all(to / "snapshots");
+  std::error_code linked;
+  fs::copy(from / "snapshots", to / "snapshots", fs::copy_options::recursive | fs::copy_options::create_hard_links, linked);
+  if (linked) {
+    fs::remove_all(to / "snapshots");
+    fs::copy(from / "snapshots", to / "snapshots", fs::copy_options::recursive);
+  }
+}
+
+bool same_folder(const std::filesystem::path& a, const std::filesystem::path& b) {
+  std::error_code error;
+  const bool same = std::filesystem::equivalent(a, b, error);
+  return !error && same;
+}
+
 }  // namespace
 
 ShearState SimpleShearTest::measure() const {
@@ -189,6 +215,10 @@ void SimpleShearTest::save_restart(const std::filesystem::path& file) const {
 void SimpleShearTest::load_restart(const std::filesystem::path& file) {
   build_world();  // walls, rings and contact models as configured; the file supplies the state
   servo_.reset();
+  // A restart from another folder (a second shear of one consolidated specimen) brings the
+  // outputs written up to it, which the restored protocol continues.
+  const std::filesystem::path source = std::filesystem::absolute(file).parent_path();
+  if (!same_folder(source, out_dir_)) copy_run_files(source, out_dir_);
   restore_protocol_state(io::load_checkpoint(file, *world_));
   // The configuration's limit, not the one of the run that wrote the file (older files hold 0.5).
   world_->set_max_overlap_ratio(config_.max_overlap_ratio);

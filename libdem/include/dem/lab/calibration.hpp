@@ -10,16 +10,17 @@
 // squares slope through the origin on the lab points up to a fraction of the lab peak, "peak" the
 // largest stress on the lab points, the model being interpolated onto the lab strains.
 //
-// One specimen for all trials: it is generated once (or taken from --from) and consolidated once
-// per E*, with the starting mu and mu_r of the configuration; every trial loads that consolidated
-// restart with its own contact parameters (the restart holds state, the configuration the laws)
-// and shears it along the first shear direction to the lab's largest strain. Rule for E*: a
-// consolidated specimen is only reused for trials of the same E*, because E* sets the stiffness
-// of the contacts that carry the consolidation stress; a new E* is consolidated afresh from the
-// generated state (specimen/generated/generated.restart), and that specimen is kept for every
-// later trial with this E*. So stages 2-4, which keep E* fixed, consolidate nothing. This relies
-// on a restart written right after generation asking for a neighbour-list rebuild (it does:
-// generation ends by setting the contact models), which recomputes the time step for the new E*.
+// One specimen for all trials: it is generated once (or taken from --from) and consolidated with
+// the starting E*, mu and mu_r of the configuration; every trial loads a consolidated restart with
+// its own contact parameters (the restart holds state, the configuration the laws) and shears it
+// along the first shear direction to the lab's largest strain. Rule for E*: a consolidated
+// specimen is only reused for trials of the same E*, because E* sets the stiffness of the
+// contacts that carry the consolidation stress. A new E* consolidates the starting E*'s specimen
+// again at the new stiffness (SimpleShearTest::reconsolidate: same packing, other overlaps, a new
+// time step), so that nearby E* give nearby curves; calibration.modulus_specimen = generated
+// consolidates the generated state afresh instead (a new packing per E*, which on a small specimen
+// changes the curve more than mu_r does). Each E*'s specimen is kept for every later trial with it,
+// so stages 2-4, which keep E* fixed, consolidate nothing.
 // A trial writes a history row every min(output.every_strain, largest lab strain / 50).
 //
 // Resumable and deterministic: trials.csv holds every finished trial, keyed on the exact
@@ -162,6 +163,12 @@ class PatternSearch {
 // ---------------------------------------------------------------- settings
 
 /// Search settings (section "calibration" of the configuration, plus command-line choices).
+/// How the specimen of an E* other than the starting one is made: `Reconsolidated` (default)
+/// consolidates the starting E*'s specimen again at the new E* (same packing, other overlaps), so
+/// that nearby E* give nearby curves; `Generated` consolidates the generated state afresh at each
+/// E*, as a new specimen per E* (the packing then differs from one E* to the next).
+enum class ModulusSpecimen { Reconsolidated, Generated };
+
 struct CalibrationSettings {
   bool fit_modulus = true, fit_friction = true, fit_rolling = true;
   double modulus_min = 1e6, modulus_max = 1e10;  // Pa, bounds of E*
@@ -182,6 +189,7 @@ struct CalibrationSettings {
   /// second, independent feature of the curve.
   enum class RollingTarget { Auto, Peak, Dilatancy } rolling_target = RollingTarget::Auto;
   double dilatancy_from = 0.8;        // -, late dilatancy averaged from this fraction of the largest lab strain
+  ModulusSpecimen modulus_specimen = ModulusSpecimen::Reconsolidated;
   ComparisonOptions comparison;       // eps of the relative difference
   int threads = 1;                    // OpenMP threads in all
   int parallel_trials = 1;            // trials run at the same time (threads / parallel_trials each)
@@ -215,7 +223,8 @@ struct TrialResult {
 };
 
 /// The specimen and its shears, without any search: generates (or takes from `from`) the
-/// specimen once, consolidates it once per E*, and shears copies of it. All files live in
+/// specimen once, has one consolidated specimen per E* (see ModulusSpecimen), and shears copies
+/// of it. All files live in
 /// `out_dir` (specimen/, trials/<number>/). Tests use it to make a lab curve from known parameters.
 class ShearTrials {
  public:
@@ -224,10 +233,10 @@ class ShearTrials {
   /// trials, and must be set before the specimens are consolidated: the first shear row of a
   /// trial comes one such interval after the consolidation row). `from`: empty, or a restart
   /// after generation or consolidation (InputError otherwise, or for a consolidated one when
-  /// `fit_modulus`); a consolidated one keeps the output interval it was written with for the
-  /// first row.
+  /// `fit_modulus` with the Generated rule); a consolidated one is the specimen of the starting
+  /// E*, and keeps the output interval it was written with for the first row.
   ShearTrials(SimpleShearConfig base, std::filesystem::path out_dir, std::filesystem::path from, bool fit_modulus,
-              std::ostream& log);
+              std::ostream& log, ModulusSpecimen rule = ModulusSpecimen::Reconsolidated);
   ~ShearTrials();
   ShearTrials(const ShearTrials&) = delete;
   ShearTrials& operator=(const ShearTrials&) = delete;
@@ -245,16 +254,20 @@ class ShearTrials {
   const std::filesystem::path& out_dir() const { return out_dir_; }
 
  private:
-  struct Specimen;
   std::filesystem::path specimen_dir(double modulus) const;
+  std::filesystem::path specimen_restart(double modulus) const;  // consolidated restart of this E*
+  void generate_once(int threads);
+  void consolidate_from_generated(double modulus, int threads);
+  void reconsolidate_from_reference(double modulus, int threads);
   std::filesystem::path trial_dir(int number) const;
   SimpleShearConfig config_for(const ContactFit& fit, int threads) const;
 
   SimpleShearConfig base_;
   std::filesystem::path out_dir_;
   std::ostream& log_;
+  ModulusSpecimen rule_;
   std::filesystem::path generated_restart_, generated_files_;  // generated state and its folder
-  std::filesystem::path given_consolidated_, given_files_;      // --from after consolidation
+  std::filesystem::path given_consolidated_;                    // --from after consolidation
 };
 
 struct CalibrationResult {

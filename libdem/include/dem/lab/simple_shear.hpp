@@ -67,6 +67,12 @@ class SimpleShearTest {
   void generate();
   /// Servo consolidation to the vertical stress, until stress and kinetic energy have settled.
   void consolidate();
+  /// Consolidates again a consolidated specimen (loaded from its restart) with this run's contact
+  /// parameters, e.g. another E*: the same packing, a new time step for the new stiffness, and the
+  /// servo back on the vertical stress until it has settled. Writes consolidated.restart as
+  /// consolidate() does. A calibration uses it so that specimens of nearby E* differ only in their
+  /// overlaps, not in their packing.
+  void reconsolidate();
   /// All shear legs, with history, fabric, snapshots and restart files in the output folder.
   void shear();
   /// Whatever remains of generate, consolidate and shear, then the summary.
@@ -76,7 +82,8 @@ class SimpleShearTest {
   void save_restart(const std::filesystem::path& file) const;
   /// Continues from a restart file of the same configuration: after generation, after
   /// consolidation, or anywhere in the shear. Outputs already written past the restart point
-  /// are trimmed so that they match the resumed run.
+  /// are trimmed so that they match the resumed run. A restart in another folder than this run's
+  /// brings its outputs along: history.csv, fabric.csv and snapshots/ are copied here first.
   void load_restart(const std::filesystem::path& file);
 
   /// The current state, measured now.
