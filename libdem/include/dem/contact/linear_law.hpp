@@ -96,7 +96,10 @@ namespace detail {
 DEM_HOT_INLINE void rotate_into_plane(Vec3& stored, const Vec3& normal) {
   const double length_sq = stored.squaredNorm();
   if (length_sq == 0.0) return;
-  stored -= stored.dot(normal) * normal;
+  // Written per component: GCC sometimes leaves Eigen's `v -= s * n` out of line in the contact
+  // loop (two calls per contact, a few per cent of the step), depending on unrelated code.
+  const double along = stored.dot(normal);
+  stored = Vec3(stored.x() - along * normal.x(), stored.y() - along * normal.y(), stored.z() - along * normal.z());
   const double projected_sq = stored.squaredNorm();
   if (projected_sq > 0.0) stored *= std::sqrt(length_sq / projected_sq);
 }
