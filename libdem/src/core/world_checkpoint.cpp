@@ -160,7 +160,7 @@ void write_pairs(Writer& w, const PairContacts& c) {
   w.vec(c.second);
   w.vec(c.force);
   w.vec(c.torque_first);
-  w.vec(c.torque_second);
+  w.vec(std::vector<Vec3>{});  // torque_second: no longer stored (second_torque); the format keeps its place
   w.vec(c.normal_force);
   write_states(w, c.state);
 }
@@ -441,7 +441,7 @@ PairContacts read_pairs(Reader& r, const ContactModel* model, ContactKind kind, 
   c.second = r.vec<std::int32_t>(name + ".second");
   c.force = r.vec<Vec3>(name + ".force");
   c.torque_first = r.vec<Vec3>(name + ".torque_first");
-  c.torque_second = r.vec<Vec3>(name + ".torque_second");
+  std::vector<Vec3> torque_second = r.vec<Vec3>(name + ".torque_second");  // older files: checked, not kept
   c.normal_force = r.vec<double>(name + ".normal_force");
   const std::size_t count = c.size();
   check_length(c.second.size(), count, name + ".second", "one per contact, as first");
@@ -451,7 +451,7 @@ PairContacts read_pairs(Reader& r, const ContactModel* model, ContactKind kind, 
   fill_results(c.normal_force, count, name + ".normal_force");
   fill_results(c.force, count, name + ".force");
   fill_results(c.torque_first, count, name + ".torque_first");
-  fill_results(c.torque_second, count, name + ".torque_second");
+  fill_results(torque_second, count, name + ".torque_second");
   read_states(r, model, c.state, count, name);
   return c;
 }

@@ -19,13 +19,13 @@ const ContactModel& model_for(const std::shared_ptr<const ContactModel>& model, 
 }
 
 void gather(const PairContacts& c, const std::vector<std::int32_t>& offsets, const std::vector<std::int32_t>& entries,
-            std::size_t i, Vec3& force, Vec3& torque) {
+            const std::vector<Vec3>& x, std::size_t i, Vec3& force, Vec3& torque) {
   for (std::int32_t e = offsets[i]; e < offsets[i + 1]; ++e) {
     const auto entry = static_cast<std::size_t>(entries[static_cast<std::size_t>(e)]);
     const std::size_t k = entry >> 1;
-    if (entry & 1U) {
+    if (entry & 1U) {  // i is piece 2
       force += c.force[k];
-      torque += c.torque_second[k];
+      torque += second_torque(x[i] - x[static_cast<std::size_t>(c.first[k])], c.force[k], c.torque_first[k]);
     } else {
       force -= c.force[k];
       torque += c.torque_first[k];
@@ -49,10 +49,7 @@ void World::compute_forces() {
   const bool serial = threads_for(static_cast<std::int64_t>(ball_ball_.size()), threads_) == 1;
   if (!serial && last_step_serial_) {
     // Serial steps leave the per-contact torque records stale; the gather must not see them.
-    for (PairContacts* c : {&ball_ball_, &ball_pebble_}) {
-      c->torque_first.assign(c->size(), Vec3::Zero());
-      c->torque_second.assign(c->size(), Vec3::Zero());
-    }
+    for (PairContacts* c : {&ball_ball_, &ball_pebble_}) c->torque_first.assign(c->size(), Vec3::Zero());
   }
   last_step_serial_ = serial;
   if (serial) {
@@ -71,8 +68,8 @@ void World::compute_forces() {
     for (std::int64_t s = 0; s < n; ++s) {
       const auto i = static_cast<std::size_t>(s);
       Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
-      gather(ball_ball_, bb_offsets_, bb_entries_, i, force, torque);
-      gather(ball_pebble_, bp_offsets_, bp_entries_, i, force, torque);
+      gather(ball_ball_, bb_offsets_, bb_entries_, p.x, i, force, torque);
+      gather(ball_pebble_, bp_offsets_, bp_entries_, p.x, i, force, torque);
       p.f[i] = force;
       p.t[i] = torque;
     }

@@ -123,6 +123,8 @@ void World::rebuild(bool resort) {
     bp.second.push_back(b);
     bp_source.push_back(lookup(old_bp_keys, pair_key(p.id[static_cast<std::size_t>(a)], p.id[static_cast<std::size_t>(b)])));
   }
+  std::vector<std::int32_t>().swap(first);  // split: free them before the histories are copied
+  std::vector<std::int32_t>().swap(second);
   carry_history(contact_model(ContactKind::BallBall), bb, ball_ball_, bb_source);
   carry_history(contact_model(ContactKind::BallPebble), bp, ball_pebble_, bp_source);
   ball_ball_ = std::move(bb);

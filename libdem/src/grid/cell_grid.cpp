@@ -97,11 +97,19 @@ void find_pairs(const std::vector<Vec3>& x, const std::vector<double>& radius, d
       }
     }
   }
+  // Exact-size result, each thread's buffer freed once copied: the rebuild's peak memory is the
+  // largest of the run (it sets the bytes per ball of the largest specimens).
+  std::size_t total = 0;
+  for (const auto& l : local_first) total += l.size();
   first.clear();
   second.clear();
-  for (int t = 0; t < nthreads; ++t) {
-    first.insert(first.end(), local_first[static_cast<std::size_t>(t)].begin(), local_first[static_cast<std::size_t>(t)].end());
-    second.insert(second.end(), local_second[static_cast<std::size_t>(t)].begin(), local_second[static_cast<std::size_t>(t)].end());
+  first.reserve(total);
+  second.reserve(total);
+  for (std::size_t t = 0; t < local_first.size(); ++t) {
+    first.insert(first.end(), local_first[t].begin(), local_first[t].end());
+    second.insert(second.end(), local_second[t].begin(), local_second[t].end());
+    std::vector<std::int32_t>().swap(local_first[t]);
+    std::vector<std::int32_t>().swap(local_second[t]);
   }
 }
 

@@ -33,11 +33,17 @@ struct PairContacts {
   std::vector<std::int32_t> first, second;  // storage indices of the two pieces
   StateBuffer state;
   std::vector<Vec3> force;           // N, on piece 2 (piece 1 gets -force)
-  std::vector<Vec3> torque_first;    // N m, total torque on piece 1 about its centre
-  std::vector<Vec3> torque_second;   // N m, total torque on piece 2 about its centre
+  std::vector<Vec3> torque_first;    // N m, total torque on piece 1 about its centre (piece 2: second_torque)
   std::vector<double> normal_force;  // N, elastic, compression positive; 0 if not touching
   std::size_t size() const { return first.size(); }
 };
+
+/// The torque on piece 2 about its centre, from the force on it and the torque on piece 1: the
+/// two differ by the moment of the force over the branch d = x2 - x1 (T1 + T2 = -d x F), so a
+/// contact stores only T1. Serial steps and the threaded gather both use this, for the same bits.
+inline Vec3 second_torque(const Vec3& branch, const Vec3& force, const Vec3& torque_first) {
+  return -branch.cross(force) - torque_first;
+}
 
 /// Ball-facet candidates: one per (ball, wall), with the wall's triangles near that ball. A ball
 /// gets a single contact per wall at the closest point of those triangles, so a ball on the

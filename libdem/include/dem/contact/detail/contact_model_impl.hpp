@@ -32,10 +32,7 @@ void compute_pairs(const typename Law::Params& params, PairContacts& c, const Ke
   const bool scatter = ctx.scatter_force != nullptr;
   c.force.resize(c.size(), Vec3::Zero());
   c.normal_force.resize(c.size(), 0.0);
-  if (!scatter) {
-    c.torque_first.resize(c.size(), Vec3::Zero());
-    c.torque_second.resize(c.size(), Vec3::Zero());
-  }
+  if (!scatter) c.torque_first.resize(c.size(), Vec3::Zero());
 #pragma omp parallel num_threads(scatter ? 1 : threads_for(count, ctx.threads))
   {
     OverlapMonitor local;
@@ -53,10 +50,7 @@ void compute_pairs(const typename Law::Params& params, PairContacts& c, const Ke
           state_at<State>(c.state, static_cast<std::size_t>(k)) = State{};
           c.force[k].setZero();
           c.normal_force[k] = 0.0;
-          if (!scatter) {
-            c.torque_first[k].setZero();
-            c.torque_second[k].setZero();
-          }
+          if (!scatter) c.torque_first[k].setZero();
         }
         continue;
       }
@@ -79,15 +73,13 @@ void compute_pairs(const typename Law::Params& params, PairContacts& c, const Ke
       c.force[k] = out.force;
       c.normal_force[k] = out.normal_force;
       const Vec3 torque_first = -arm_first.cross(out.force) - out.moment;
-      const Vec3 torque_second = arm_second.cross(out.force) + out.moment;
       if (scatter) {
         ctx.scatter_force[i] -= out.force;
         ctx.scatter_torque[i] += torque_first;
         ctx.scatter_force[j] += out.force;
-        ctx.scatter_torque[j] += torque_second;
+        ctx.scatter_torque[j] += second_torque(d, out.force, torque_first);
       } else {
         c.torque_first[k] = torque_first;
-        c.torque_second[k] = torque_second;
       }
       const double ratio = kin.overlap / std::min(p.radius[i], p.radius[j]);
       if (ratio > local.ratio) local = OverlapMonitor{ratio, k};
