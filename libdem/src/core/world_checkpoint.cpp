@@ -653,9 +653,7 @@ void World::load_state(std::istream& in) {
   x_at_rebuild_ = std::move(x_at_rebuild), wall_disp_at_rebuild_ = std::move(wall_disp_at_rebuild);
   need_rebuild_ = need_rebuild, rebuilds_ = rebuilds;
   max_travel_sq_ = max_travel_sq, max_wall_travel_ = max_wall_travel, skin_ = skin;
-  // The saved per-contact torques may be stale (serial steps do not write them): a parallel
-  // first step must clear them, as after any serial step.
-  last_step_serial_ = true;
+  gather_plan_stale_ = true;  // the loaded contact lists are not those the plan was made for
 }
 
 }  // namespace dem

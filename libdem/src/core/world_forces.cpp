@@ -1,6 +1,9 @@
-// Contact forces of one step: each contact type runs its own law-typed loop, writing one force
-// record per contact; then every particle sums its records in a fixed order (its incidence list),
-// so the result is bit-identical for any thread count.
+// Contact forces of one step: each contact type runs its own law-typed loop, adding each contact's
+// force and torque into its particles' sums in contact order. With several threads, each takes a
+// contiguous share of the contacts; a particle with contacts in two shares is left out of the loops
+// and summed afterwards from per-contact records along its incidence list, in the same contact
+// order. So every particle's sum is the serial one, bit for bit, for any thread count, and only the
+// few particles on the shares' borders pay for a gather.
 #include <algorithm>
 #include <cmath>
 
@@ -35,6 +38,31 @@ void gather(const PairContacts& c, const std::vector<std::int32_t>& offsets, con
 
 }  // namespace
 
+void World::plan_gather() {
+  if (!gather_plan_stale_ && gathered_.size() == particles_.size()) return;
+  const std::size_t n = particles_.size();
+  gathered_.assign(n, 0);
+  std::vector<std::int32_t> owner;
+  for (const PairContacts* c : {&ball_ball_, &ball_pebble_}) {
+    const auto count = static_cast<std::int64_t>(c->size());
+    const int threads = threads_for(count, threads_);  // as compute_pairs splits this loop
+    owner.assign(n, -1);
+    for (int t = 0; t < threads; ++t) {
+      const auto [begin, end] = thread_share(count, threads, t);
+      for (std::int64_t k = begin; k < end; ++k)
+        for (const std::int32_t piece : {c->first[static_cast<std::size_t>(k)], c->second[static_cast<std::size_t>(k)]}) {
+          std::int32_t& o = owner[static_cast<std::size_t>(piece)];
+          if (o < 0) o = t;
+          else if (o != t) gathered_[static_cast<std::size_t>(piece)] = 1;
+        }
+    }
+  }
+  gathered_list_.clear();
+  for (std::size_t i = 0; i < n; ++i)
+    if (gathered_[i]) gathered_list_.push_back(static_cast<std::int32_t>(i));
+  gather_plan_stale_ = false;
+}
+
 void World::compute_forces() {
   KernelContext ctx;
   ctx.particles = &particles_;
@@ -43,30 +71,25 @@ void World::compute_forces() {
   ctx.threads = threads_;
 
   ParticleStore& p = particles_;
-  const auto n = static_cast<std::int64_t>(p.size());
-  // One thread: add forces as they are computed. Several: per-contact records, then a per-particle
-  // gather in the same contact order. Both give the same bits.
-  const bool serial = threads_for(static_cast<std::int64_t>(ball_ball_.size()), threads_) == 1;
-  if (!serial && last_step_serial_) {
-    // Serial steps leave the per-contact torque records stale; the gather must not see them.
-    for (PairContacts* c : {&ball_ball_, &ball_pebble_}) c->torque_first.assign(c->size(), Vec3::Zero());
-  }
-  last_step_serial_ = serial;
-  if (serial) {
-    std::fill(p.f.begin(), p.f.end(), Vec3::Zero());
-    std::fill(p.t.begin(), p.t.end(), Vec3::Zero());
-    ctx.scatter_force = p.f.data();
-    ctx.scatter_torque = p.t.data();
+  std::fill(p.f.begin(), p.f.end(), Vec3::Zero());
+  std::fill(p.t.begin(), p.t.end(), Vec3::Zero());
+  ctx.scatter_force = p.f.data();
+  ctx.scatter_torque = p.t.data();
+  const bool parallel = threads_for(static_cast<std::int64_t>(ball_ball_.size()), threads_) > 1;
+  if (parallel) {
+    plan_gather();
+    ctx.gathered = gathered_.data();
   }
   OverlapMonitor worst_bb, worst_bp, worst_wall;
   if (ball_ball_.size() > 0) model_for(models_[0], ContactKind::BallBall).compute(ball_ball_, ctx, worst_bb);
   if (ball_pebble_.size() > 0) model_for(models_[2], ContactKind::BallPebble).compute(ball_pebble_, ctx, worst_bp);
   if (wall_contacts_.size() > 0) model_for(models_[1], ContactKind::BallFacet).compute(wall_contacts_, ctx, worst_wall);
 
-  if (!serial) {
-#pragma omp parallel for schedule(static) num_threads(threads_for(n, threads_))
+  if (parallel) {
+    const auto n = static_cast<std::int64_t>(gathered_list_.size());
+#pragma omp parallel for schedule(static) num_threads(threads_for(16 * n, threads_))
     for (std::int64_t s = 0; s < n; ++s) {
-      const auto i = static_cast<std::size_t>(s);
+      const auto i = static_cast<std::size_t>(gathered_list_[static_cast<std::size_t>(s)]);
       Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
       gather(ball_ball_, bb_offsets_, bb_entries_, p.x, i, force, torque);
       gather(ball_pebble_, bp_offsets_, bp_entries_, p.x, i, force, torque);

@@ -190,6 +190,7 @@ void World::rebuild(bool resort) {
   wall_disp_at_rebuild_.clear();
   for (const auto& w : walls_) wall_disp_at_rebuild_.push_back(w.displacement);
   need_rebuild_ = false;
+  gather_plan_stale_ = true;
   ++rebuilds_;
   if (settings_.time_step <= 0.0 && dt_ > 0.0) update_time_step();
 }

@@ -137,6 +137,7 @@ class World {
  private:
   void rebuild(bool resort);
   void compute_forces();
+  void plan_gather();
   void gather_forces();
   void integrate();
   void update_pebbles();
@@ -171,7 +172,11 @@ class World {
   double max_travel_sq_ = 0.0;  // largest squared displacement since the last rebuild, m^2
   double max_wall_travel_ = 0.0;
   double skin_ = 0.0;  // m, the skin of the current lists (resolved at each rebuild)
-  bool last_step_serial_ = true;  // the per-contact torque records are stale after serial steps
+  // With several threads: the particles whose pair contacts fall in more than one thread's share
+  // (their forces are gathered from per-contact records), planned once per neighbour list.
+  std::vector<std::uint8_t> gathered_;
+  std::vector<std::int32_t> gathered_list_;
+  bool gather_plan_stale_ = true;
 };
 
 }  // namespace dem

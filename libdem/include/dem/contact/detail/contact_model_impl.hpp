@@ -3,6 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
+#if defined(_OPENMP)
+#include <omp.h>
+#endif
 
 #include <dem/boundary/facet_wall.hpp>
 #include <dem/core/particles.hpp>
@@ -29,15 +33,27 @@ void compute_pairs(const typename Law::Params& params, PairContacts& c, const Ke
   using State = typename Law::State;
   const ParticleStore& p = *ctx.particles;
   const std::int64_t count = static_cast<std::int64_t>(c.size());
-  const bool scatter = ctx.scatter_force != nullptr;
+  const std::uint8_t* gathered = ctx.gathered;
+  const int threads = gathered ? threads_for(count, ctx.threads) : 1;
   c.force.resize(c.size(), Vec3::Zero());
   c.normal_force.resize(c.size(), 0.0);
-  if (!scatter) c.torque_first.resize(c.size(), Vec3::Zero());
-#pragma omp parallel num_threads(scatter ? 1 : threads_for(count, ctx.threads))
+  if (gathered) c.torque_first.resize(c.size(), Vec3::Zero());  // records only the gather reads
+  const bool records = !c.torque_first.empty();
+#pragma omp parallel num_threads(threads)
   {
     OverlapMonitor local;
-#pragma omp for schedule(static)
-    for (std::int64_t k = 0; k < count; ++k) {
+    // The shares the engine planned the gather on; should the runtime give fewer threads than
+    // asked, one thread takes every share (each particle still has a single writer).
+#if defined(_OPENMP)
+    const bool as_planned = omp_get_num_threads() == threads;
+    const int me = omp_get_thread_num();
+#else
+    const bool as_planned = threads == 1;
+    const int me = 0;
+#endif
+    const auto [begin, end] = as_planned ? thread_share(count, threads, me)
+                                         : std::pair<std::int64_t, std::int64_t>{0, me == 0 ? count : 0};
+    for (std::int64_t k = begin; k < end; ++k) {
       const auto i = static_cast<std::size_t>(c.first[k]);
       const auto j = static_cast<std::size_t>(c.second[k]);
       const Vec3 d = p.x[j] - p.x[i];
@@ -45,12 +61,12 @@ void compute_pairs(const typename Law::Params& params, PairContacts& c, const Ke
       const double dist_sq = d.squaredNorm();
       if (dist_sq >= reach * reach) {
         // Separated: history ends. A pair that was apart already holds a fresh State and zero
-        // forces, so most candidates cost no writes at all.
+        // records, so most candidates cost no writes at all.
         if (c.normal_force[k] != 0.0 || !c.force[k].isZero(0.0)) {
           state_at<State>(c.state, static_cast<std::size_t>(k)) = State{};
           c.force[k].setZero();
+          if (records) c.torque_first[k].setZero();
           c.normal_force[k] = 0.0;
-          if (!scatter) c.torque_first[k].setZero();
         }
         continue;
       }
@@ -73,14 +89,17 @@ void compute_pairs(const typename Law::Params& params, PairContacts& c, const Ke
       c.force[k] = out.force;
       c.normal_force[k] = out.normal_force;
       const Vec3 torque_first = -arm_first.cross(out.force) - out.moment;
-      if (scatter) {
+      const bool gather_first = gathered != nullptr && gathered[i] != 0;
+      const bool gather_second = gathered != nullptr && gathered[j] != 0;
+      if (!gather_first) {
         ctx.scatter_force[i] -= out.force;
         ctx.scatter_torque[i] += torque_first;
+      }
+      if (!gather_second) {
         ctx.scatter_force[j] += out.force;
         ctx.scatter_torque[j] += second_torque(d, out.force, torque_first);
-      } else {
-        c.torque_first[k] = torque_first;
       }
+      if (gather_first || gather_second) c.torque_first[k] = torque_first;
       const double ratio = kin.overlap / std::min(p.radius[i], p.radius[j]);
       if (ratio > local.ratio) local = OverlapMonitor{ratio, k};
     }
