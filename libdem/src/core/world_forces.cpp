@@ -39,28 +39,42 @@ void gather(const PairContacts& c, const std::vector<std::int32_t>& offsets, con
 }  // namespace
 
 void World::plan_gather() {
-  if (!gather_plan_stale_ && gathered_.size() == particles_.size()) return;
+  // Re-planned after every rebuild and every few hundred steps: contacts that open or close move
+  // the work between shares. The plan never changes a result, only who computes what.
+  constexpr std::int64_t replan_every = 250;
+  if (!gather_plan_stale_ && gathered_.size() == particles_.size() && steps_ - gather_planned_at_ < replan_every) return;
   const std::size_t n = particles_.size();
   gathered_.assign(n, 0);
   std::vector<std::int32_t> owner;
-  for (const PairContacts* c : {&ball_ball_, &ball_pebble_}) {
+  for (PairContacts* c : {&ball_ball_, &ball_pebble_}) {
     const auto count = static_cast<std::int64_t>(c->size());
-    const int threads = threads_for(count, threads_);  // as compute_pairs splits this loop
+    const int threads = threads_for(count, threads_);
+    // Equal work per share: a touching contact costs about four separated candidates.
+    std::vector<std::int64_t>& shares = c->shares;
+    shares.assign(1, 0);
+    std::int64_t total = 0;
+    for (std::int64_t k = 0; k < count; ++k) total += c->normal_force[static_cast<std::size_t>(k)] > 0.0 ? 4 : 1;
+    std::int64_t done = 0;
+    for (std::int64_t k = 0; k < count && static_cast<int>(shares.size()) < threads; ++k) {
+      done += c->normal_force[static_cast<std::size_t>(k)] > 0.0 ? 4 : 1;
+      if (done * threads >= total * static_cast<std::int64_t>(shares.size())) shares.push_back(k + 1);
+    }
+    while (static_cast<int>(shares.size()) < threads) shares.push_back(count);
+    shares.push_back(count);
     owner.assign(n, -1);
-    for (int t = 0; t < threads; ++t) {
-      const auto [begin, end] = thread_share(count, threads, t);
-      for (std::int64_t k = begin; k < end; ++k)
+    for (int t = 0; t < threads; ++t)
+      for (std::int64_t k = shares[static_cast<std::size_t>(t)]; k < shares[static_cast<std::size_t>(t) + 1]; ++k)
         for (const std::int32_t piece : {c->first[static_cast<std::size_t>(k)], c->second[static_cast<std::size_t>(k)]}) {
           std::int32_t& o = owner[static_cast<std::size_t>(piece)];
           if (o < 0) o = t;
           else if (o != t) gathered_[static_cast<std::size_t>(piece)] = 1;
         }
-    }
   }
   gathered_list_.clear();
   for (std::size_t i = 0; i < n; ++i)
     if (gathered_[i]) gathered_list_.push_back(static_cast<std::int32_t>(i));
   gather_plan_stale_ = false;
+  gather_planned_at_ = steps_;
 }
 
 void World::compute_forces() {

@@ -40,14 +40,6 @@ concept ContactLaw = requires(const typename L::Params& p, const ContactKinemati
 /// parallel region costs more than it saves (and oversubscribed cores make it far worse).
 inline int threads_for(std::int64_t count, int threads) { return count >= 4096 ? threads : 1; }
 
-/// The contiguous share [first, second) of `count` loop items that thread `t` of `threads` takes
-/// in the pair loops. The engine plans its force sums on these same shares (World::compute_forces).
-inline std::pair<std::int64_t, std::int64_t> thread_share(std::int64_t count, int threads, int t) {
-  const std::int64_t base = count / threads, extra = count % threads;
-  const std::int64_t begin = t * base + std::min<std::int64_t>(t, extra);
-  return {begin, begin + base + (t < extra ? 1 : 0)};
-}
-
 /// Everything a contact kernel needs besides the contacts themselves.
 struct KernelContext {
   const ParticleStore* particles = nullptr;
@@ -55,10 +47,11 @@ struct KernelContext {
   double dt = 0.0;  // s
   int threads = 1;
   /// Per-particle sums (N, N m) that the pair loops add each contact's force and torque into,
-  /// in contact order. With several threads a particle whose contacts fall in more than one
-  /// thread's share is marked in `gathered`: the loops skip it (no two threads ever write one
-  /// particle) and leave per-contact records that the engine sums for it afterwards, in the same
-  /// contact order. Every particle's sum is then the serial one, bit for bit, for any thread count.
+  /// in contact order. With several threads (`gathered` set), thread t takes the contacts
+  /// PairContacts::shares[t] to shares[t + 1], and a particle whose contacts fall in more than one
+  /// share is marked in `gathered`: the loops skip it (no two threads ever write one particle) and
+  /// leave per-contact records that the engine sums for it afterwards, in the same contact order.
+  /// Every particle's sum is then the serial one, bit for bit, for any thread count.
   Vec3* scatter_force = nullptr;
   Vec3* scatter_torque = nullptr;
   const std::uint8_t* gathered = nullptr;  // null: one thread, nothing gathered

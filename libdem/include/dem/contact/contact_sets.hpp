@@ -35,6 +35,9 @@ struct PairContacts {
   std::vector<Vec3> force;           // N, on piece 2 (piece 1 gets -force)
   std::vector<Vec3> torque_first;    // N m, total torque on piece 1 about its centre (piece 2: second_torque)
   std::vector<double> normal_force;  // N, elastic, compression positive; 0 if not touching
+  /// With several threads, thread t takes the contacts [shares[t], shares[t + 1]) (planned by
+  /// the World, weighted by which contacts touch, so that the threads finish together).
+  std::vector<std::int64_t> shares;
   std::size_t size() const { return first.size(); }
 };
 

@@ -177,6 +177,7 @@ class World {
   std::vector<std::uint8_t> gathered_;
   std::vector<std::int32_t> gathered_list_;
   bool gather_plan_stale_ = true;
+  std::int64_t gather_planned_at_ = 0;  // step of the plan
 };
 
 }  // namespace dem

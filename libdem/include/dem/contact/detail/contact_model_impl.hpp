@@ -34,7 +34,7 @@ void compute_pairs(const typename Law::Params& params, PairContacts& c, const Ke
   const ParticleStore& p = *ctx.particles;
   const std::int64_t count = static_cast<std::int64_t>(c.size());
   const std::uint8_t* gathered = ctx.gathered;
-  const int threads = gathered ? threads_for(count, ctx.threads) : 1;
+  const int threads = gathered && c.shares.size() >= 2 ? static_cast<int>(c.shares.size()) - 1 : 1;
   c.force.resize(c.size(), Vec3::Zero());
   c.normal_force.resize(c.size(), 0.0);
   if (gathered) c.torque_first.resize(c.size(), Vec3::Zero());  // records only the gather reads
@@ -51,8 +51,8 @@ void compute_pairs(const typename Law::Params& params, PairContacts& c, const Ke
     const bool as_planned = threads == 1;
     const int me = 0;
 #endif
-    const auto [begin, end] = as_planned ? thread_share(count, threads, me)
-                                         : std::pair<std::int64_t, std::int64_t>{0, me == 0 ? count : 0};
+    const std::int64_t begin = as_planned ? (threads > 1 ? c.shares[static_cast<std::size_t>(me)] : 0) : 0;
+    const std::int64_t end = as_planned ? (threads > 1 ? c.shares[static_cast<std::size_t>(me) + 1] : count) : (me == 0 ? count : 0);
     for (std::int64_t k = begin; k < end; ++k) {
       const auto i = static_cast<std::size_t>(c.first[k]);
       const auto j = static_cast<std::size_t>(c.second[k]);
