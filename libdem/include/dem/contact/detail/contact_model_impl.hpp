@@ -27,11 +27,68 @@ inline void merge_worst(OverlapMonitor& into, const OverlapMonitor& other) {
     into = other;
 }
 
+/// The pair loop over contacts [begin, end): one thread's share. `Threaded`: skip the particles
+/// the engine gathers (KernelContext::gathered) and leave their records; otherwise add into all.
+template <ContactLaw Law, bool Threaded>
+void pair_range(const typename Law::Params& params, PairContacts& c, const KernelContext& ctx, std::int64_t begin,
+                std::int64_t end, bool records, OverlapMonitor& local) {
+  using State = typename Law::State;
+  const ParticleStore& p = *ctx.particles;
+  for (std::int64_t k = begin; k < end; ++k) {
+    const auto i = static_cast<std::size_t>(c.first[k]);
+    const auto j = static_cast<std::size_t>(c.second[k]);
+    const Vec3 d = p.x[j] - p.x[i];
+    const double reach = p.radius[i] + p.radius[j];
+    const double dist_sq = d.squaredNorm();
+    if (dist_sq >= reach * reach) {
+      // Separated: history ends. A pair that was apart already holds a fresh State and zero
+      // records, so most candidates cost no writes at all.
+      if (c.normal_force[k] != 0.0 || !c.force[k].isZero(0.0)) {
+        state_at<State>(c.state, static_cast<std::size_t>(k)) = State{};
+        c.force[k].setZero();
+        if (records) c.torque_first[k].setZero();
+        c.normal_force[k] = 0.0;
+      }
+      continue;
+    }
+    State& state = state_at<State>(c.state, static_cast<std::size_t>(k));
+    const double dist = std::sqrt(dist_sq);
+    ContactKinematics kin;
+    kin.normal = d / dist;
+    kin.overlap = reach - dist;
+    const Vec3 arm_first = (p.radius[i] - 0.5 * kin.overlap) * kin.normal;  // x_c - x_i
+    const Vec3 arm_second = arm_first - d;                                   // x_c - x_j
+    kin.relative_velocity = (p.v[j] + p.w[j].cross(arm_second)) - (p.v[i] + p.w[i].cross(arm_first));
+    kin.relative_angular_velocity = p.w[j] - p.w[i];
+    kin.radius_1 = p.radius[i];
+    kin.radius_2 = p.radius[j];
+    kin.effective_radius = p.radius[i] * p.radius[j] / reach;
+    kin.effective_mass = 1.0 / (p.inv_mass[i] + p.inv_mass[j]);
+    kin.dt = ctx.dt;
+    kin.kind = c.kind;
+    const ContactForce out = Law::force(params, kin, state);
+    c.force[k] = out.force;
+    c.normal_force[k] = out.normal_force;
+    const Vec3 torque_first = -arm_first.cross(out.force) - out.moment;
+    const bool gather_first = Threaded && ctx.gathered[i] != 0;
+    const bool gather_second = Threaded && ctx.gathered[j] != 0;
+    if (!gather_first) {
+      ctx.scatter_force[i] -= out.force;
+      ctx.scatter_torque[i] += torque_first;
+    }
+    if (!gather_second) {
+      ctx.scatter_force[j] += out.force;
+      ctx.scatter_torque[j] += second_torque(d, out.force, torque_first);
+    }
+    if (gather_first || gather_second) c.torque_first[k] = torque_first;
+    const double ratio = kin.overlap / std::min(p.radius[i], p.radius[j]);
+    if (ratio > local.ratio) local = OverlapMonitor{ratio, k};
+  }
+}
+
 template <ContactLaw Law>
 void compute_pairs(const typename Law::Params& params, PairContacts& c, const KernelContext& ctx,
                    OverlapMonitor& worst) {
-  using State = typename Law::State;
-  const ParticleStore& p = *ctx.particles;
   const std::int64_t count = static_cast<std::int64_t>(c.size());
   const std::uint8_t* gathered = ctx.gathered;
   const int threads = gathered && c.shares.size() >= 2 ? static_cast<int>(c.shares.size()) - 1 : 1;
@@ -53,56 +110,8 @@ void compute_pairs(const typename Law::Params& params, PairContacts& c, const Ke
 #endif
     const std::int64_t begin = as_planned ? (threads > 1 ? c.shares[static_cast<std::size_t>(me)] : 0) : 0;
     const std::int64_t end = as_planned ? (threads > 1 ? c.shares[static_cast<std::size_t>(me) + 1] : count) : (me == 0 ? count : 0);
-    for (std::int64_t k = begin; k < end; ++k) {
-      const auto i = static_cast<std::size_t>(c.first[k]);
-      const auto j = static_cast<std::size_t>(c.second[k]);
-      const Vec3 d = p.x[j] - p.x[i];
-      const double reach = p.radius[i] + p.radius[j];
-      const double dist_sq = d.squaredNorm();
-      if (dist_sq >= reach * reach) {
-        // Separated: history ends. A pair that was apart already holds a fresh State and zero
-        // records, so most candidates cost no writes at all.
-        if (c.normal_force[k] != 0.0 || !c.force[k].isZero(0.0)) {
-          state_at<State>(c.state, static_cast<std::size_t>(k)) = State{};
-          c.force[k].setZero();
-          if (records) c.torque_first[k].setZero();
-          c.normal_force[k] = 0.0;
-        }
-        continue;
-      }
-      State& state = state_at<State>(c.state, static_cast<std::size_t>(k));
-      const double dist = std::sqrt(dist_sq);
-      ContactKinematics kin;
-      kin.normal = d / dist;
-      kin.overlap = reach - dist;
-      const Vec3 arm_first = (p.radius[i] - 0.5 * kin.overlap) * kin.normal;  // x_c - x_i
-      const Vec3 arm_second = arm_first - d;                                   // x_c - x_j
-      kin.relative_velocity = (p.v[j] + p.w[j].cross(arm_second)) - (p.v[i] + p.w[i].cross(arm_first));
-      kin.relative_angular_velocity = p.w[j] - p.w[i];
-      kin.radius_1 = p.radius[i];
-      kin.radius_2 = p.radius[j];
-      kin.effective_radius = p.radius[i] * p.radius[j] / reach;
-      kin.effective_mass = 1.0 / (p.inv_mass[i] + p.inv_mass[j]);
-      kin.dt = ctx.dt;
-      kin.kind = c.kind;
-      const ContactForce out = Law::force(params, kin, state);
-      c.force[k] = out.force;
-      c.normal_force[k] = out.normal_force;
-      const Vec3 torque_first = -arm_first.cross(out.force) - out.moment;
-      const bool gather_first = gathered != nullptr && gathered[i] != 0;
-      const bool gather_second = gathered != nullptr && gathered[j] != 0;
-      if (!gather_first) {
-        ctx.scatter_force[i] -= out.force;
-        ctx.scatter_torque[i] += torque_first;
-      }
-      if (!gather_second) {
-        ctx.scatter_force[j] += out.force;
-        ctx.scatter_torque[j] += second_torque(d, out.force, torque_first);
-      }
-      if (gather_first || gather_second) c.torque_first[k] = torque_first;
-      const double ratio = kin.overlap / std::min(p.radius[i], p.radius[j]);
-      if (ratio > local.ratio) local = OverlapMonitor{ratio, k};
-    }
+    if (gathered) pair_range<Law, true>(params, c, ctx, begin, end, records, local);
+    else pair_range<Law, false>(params, c, ctx, begin, end, records, local);
 #pragma omp critical(dem_overlap_monitor)
     merge_worst(worst, local);
   }
