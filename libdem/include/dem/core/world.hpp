@@ -3,8 +3,8 @@
 //
 // A step (leapfrog, as PFC's velocity Verlet with velocities half a step behind, docs/model.md 2):
 //   1. rebuild the Verlet lists if something moved more than allowed by the skin;
-//   2. contact forces from the positions at t and the velocities at t - dt/2, gathered per
-//      particle in a fixed order (results do not depend on the thread count);
+//   2. contact forces from the positions at t and the velocities at t - dt/2, summed per
+//      particle in contact order (results do not depend on the thread count);
 //   3. controllers run (servo walls, user protocols) and may change wall velocities;
 //   4. balls and clumps are integrated with local (non-viscous) damping; walls move;
 //   5. the instability checks run; every-N-steps callbacks run.
@@ -138,7 +138,6 @@ class World {
   void rebuild(bool resort);
   void compute_forces();
   void plan_gather();
-  void gather_forces();
   void integrate();
   void update_pebbles();
   void check_stability(const OverlapMonitor& pairs_worst, ContactKind pairs_kind);
