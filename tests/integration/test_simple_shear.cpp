@@ -243,3 +243,31 @@ TEST_CASE("simple shear: a consolidated specimen is sheared from another folder,
   CHECK(file_text(specimen_dir / "history.csv") == specimen_history);
   CHECK(fs::exists(shear_dir / "snapshots" / "balls.pvd"));
 }
+
+TEST_CASE("simple shear: a restart loaded with four times stiffer contacts takes a stable time step", "[simple-shear]") {
+  // The critical step scales as sqrt(m / k): four times the stiffness halves it, so the file's
+  // step (0.8 of the old estimate) would be 1.6 times the new one. The same configuration keeps
+  // the file's step exactly, so that a resumed run stays bit-identical.
+  io::Config c = small_config();
+  c.set("output.fabric_strains", "");
+  c.set("output.snapshot_strains", "");
+  const fs::path dir = fresh_dir("stiffer_restart");
+  std::ostringstream log;
+  double file_step = 0.0;
+  {
+    SimpleShearTest test(simple_shear_config(c), dir, log);
+    test.generate();
+    test.consolidate();
+    file_step = test.world().time_step();
+  }
+  SimpleShearTest same(simple_shear_config(c), fresh_dir("stiffer_restart_same"), log);
+  same.load_restart(dir / "consolidated.restart");
+  CHECK(same.world().time_step() == file_step);
+
+  c.set("ball_ball.effective_modulus", "4.8e7");  // four times the 4D preset's
+  SimpleShearTest stiffer(simple_shear_config(c), fresh_dir("stiffer_restart_4x"), log);
+  stiffer.load_restart(dir / "consolidated.restart");
+  INFO(log.str());
+  CHECK(stiffer.world().time_step() == Approx(0.8 * stiffer.world().critical_time_step()).epsilon(1e-12));
+  CHECK(stiffer.world().time_step() < 0.75 * file_step);  // ball-ball contacts dominate: close to half
+}
