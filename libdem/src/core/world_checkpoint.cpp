@@ -654,6 +654,11 @@ void World::load_state(std::istream& in) {
   need_rebuild_ = need_rebuild, rebuilds_ = rebuilds;
   max_travel_sq_ = max_travel_sq, max_wall_travel_ = max_wall_travel, skin_ = skin;
   gather_plan_stale_ = true;  // the loaded contact lists are not those the plan was made for
+  // The file's time step belongs to the stiffness it was written with. Contact models that are
+  // stiffer (another E*) need a shorter one; the same models keep the file's (the estimate moves by
+  // far less than the margin between rebuilds), so a resumed run stays the same run.
+  if (settings_.time_step <= 0.0 && dt_ > 0.0 && dt_ > 1.1 * settings_.time_step_safety * critical_time_step())
+    update_time_step();
 }
 
 }  // namespace dem

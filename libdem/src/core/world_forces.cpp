@@ -50,13 +50,14 @@ void World::plan_gather() {
     const auto count = static_cast<std::int64_t>(c->size());
     const int threads = threads_for(count, threads_);
     // Equal work per share: a touching contact costs about four separated candidates.
+    auto work = [c](std::int64_t k) -> std::int64_t { return c->normal_force[static_cast<std::size_t>(k)] > 0.0 ? 4 : 1; };
     std::vector<std::int64_t>& shares = c->shares;
     shares.assign(1, 0);
     std::int64_t total = 0;
-    for (std::int64_t k = 0; k < count; ++k) total += c->normal_force[static_cast<std::size_t>(k)] > 0.0 ? 4 : 1;
+    for (std::int64_t k = 0; k < count; ++k) total += work(k);
     std::int64_t done = 0;
     for (std::int64_t k = 0; k < count && static_cast<int>(shares.size()) < threads; ++k) {
-      done += c->normal_force[static_cast<std::size_t>(k)] > 0.0 ? 4 : 1;
+      done += work(k);
       if (done * threads >= total * static_cast<std::int64_t>(shares.size())) shares.push_back(k + 1);
     }
     while (static_cast<int>(shares.size()) < threads) shares.push_back(count);

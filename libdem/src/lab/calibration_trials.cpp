@@ -158,18 +158,14 @@ std::vector<double> ShearTrials::prepare(const std::vector<double>& moduli, int 
   if (from_reference && !fs::exists(specimen_restart(start_modulus))) {
     const auto t0 = std::chrono::steady_clock::now();
     generate_once(parallel * threads);
-    consolidate_from_generated(start_modulus, parallel * threads);
+    consolidate_specimen(start_modulus, parallel * threads);
     reference_seconds = seconds_since(t0);
   }
   if (!from_reference) generate_once(parallel * threads);
   detail::run_parallel(todo.size(), parallel, [&](std::size_t k) {
     const std::size_t i = todo[k];
     const auto t0 = std::chrono::steady_clock::now();
-    if (from_reference) {
-      if (moduli[i] != start_modulus) reconsolidate_from_reference(moduli[i], threads);
-    } else {
-      consolidate_from_generated(moduli[i], threads);
-    }
+    if (!from_reference || moduli[i] != start_modulus) consolidate_specimen(moduli[i], threads);
     seconds[i] = seconds_since(t0);
   });
   if (from_reference) seconds[todo.front()] += reference_seconds;
@@ -195,25 +191,19 @@ void ShearTrials::generate_once(int threads) {
   }
 }
 
-void ShearTrials::consolidate_from_generated(double modulus, int threads) {
-  const fs::path dir = specimen_dir(modulus);
-  fs::remove_all(dir);
-  std::ofstream log(dir / "log.txt");
-  // Consolidation with this E* and the starting mu and mu_r, so that a specimen depends on E* only.
-  SimpleShearTest test(config_for({modulus, base_.ball_ball.friction, base_.ball_ball.rolling_friction}, threads), dir, log);
-  test.load_restart(generated_restart_);
-  test.consolidate();  // writes dir/consolidated.restart last: its presence marks a finished specimen
-}
-
-void ShearTrials::reconsolidate_from_reference(double modulus, int threads) {
-  const double start_modulus = base_.ball_ball.effective_modulus;
-  const fs::path reference = specimen_restart(start_modulus);
+void ShearTrials::consolidate_specimen(double modulus, int threads) {
+  // From the generated state, or again from the starting E*'s consolidated specimen; with the
+  // starting mu and mu_r either way, so that a specimen depends on E* only.
+  const bool again = rule_ == ModulusSpecimen::Reconsolidated && modulus != base_.ball_ball.effective_modulus;
+  const fs::path from = again ? specimen_restart(base_.ball_ball.effective_modulus) : generated_restart_;
   const fs::path dir = specimen_dir(modulus);
   fs::remove_all(dir);
   std::ofstream log(dir / "log.txt");
   SimpleShearTest test(config_for({modulus, base_.ball_ball.friction, base_.ball_ball.rolling_friction}, threads), dir, log);
-  test.load_restart(reference);
-  test.reconsolidate();  // writes dir/consolidated.restart last
+  test.load_restart(from);
+  // Both write dir/consolidated.restart last: its presence marks a finished specimen.
+  if (again) test.reconsolidate();
+  else test.consolidate();
 }
 
 ModelCurve ShearTrials::shear(const ContactFit& fit, double strain, int number, int threads) const {

@@ -222,19 +222,8 @@ void SimpleShearTest::load_restart(const std::filesystem::path& file) {
   restore_protocol_state(io::load_checkpoint(file, *world_));
   // The configuration's limit, not the one of the run that wrote the file (older files hold 0.5).
   world_->set_max_overlap_ratio(config_.max_overlap_ratio);
-  // The file's time step belongs to the stiffness it was written with. A configuration with
-  // stiffer contacts (another E*) needs a shorter one; the same configuration keeps the file's
-  // (its estimate moves by far less than the margin), so a resumed run stays the same run.
-  if (config_.time_step <= 0.0 && world_->time_step() > 0.0) {
-    const double safe = config_.time_step_safety * world_->critical_time_step();
-    if (world_->time_step() > 1.1 * safe) {
-      log_ << "time step " << world_->time_step() << " s of the restart is above " << safe
-           << " s for this configuration's stiffness: using " << safe << " s\n";
-      world_->update_time_step();
-    }
-  }
-  log_ << "resumed from " << file.string() << " at step " << world_->step_count() << " (stage "
-       << static_cast<int>(stage_) << ", shear strain " << path_strain_ << ")\n";
+  log_ << "resumed from " << file.string() << " at step " << world_->step_count() << ", time step " << world_->time_step()
+       << " s (stage " << static_cast<int>(stage_) << ", shear strain " << path_strain_ << ")\n";
 }
 
 void SimpleShearTest::write_summary(const std::string& resolved_config_json) const {

@@ -124,7 +124,8 @@ class World {
   void save_state(std::ostream& out) const;
   /// Replaces the state with one written by save_state. The contact models must already be set,
   /// with the same laws as when it was saved (checked by name). Throws InputError on a mismatch
-  /// or a truncated stream.
+  /// or a truncated stream. An automatic time step more than 10 % above safety x the critical
+  /// estimate of the models now set (stiffer parameters than the saved run's) is re-estimated.
   void load_state(std::istream& in);
 
   // --- internals exposed for checkpoints and tests --------------------------------------------

@@ -257,8 +257,7 @@ class ShearTrials {
   std::filesystem::path specimen_dir(double modulus) const;
   std::filesystem::path specimen_restart(double modulus) const;  // consolidated restart of this E*
   void generate_once(int threads);
-  void consolidate_from_generated(double modulus, int threads);
-  void reconsolidate_from_reference(double modulus, int threads);
+  void consolidate_specimen(double modulus, int threads);  // specimen_dir(modulus), per rule_
   std::filesystem::path trial_dir(int number) const;
   SimpleShearConfig config_for(const ContactFit& fit, int threads) const;
 
