@@ -6,6 +6,12 @@ target_compile_options(libdem_flags INTERFACE -Wall -Wextra -Wpedantic -Wshadow)
 if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
   target_compile_options(libdem_flags INTERFACE -Wno-restrict)
 endif()
+# The library never reads errno or floating-point exception flags. Without -fno-math-errno GCC
+# guards every sqrt with a compare, a branch and a libm call for negative arguments; without
+# -fno-trapping-math it will not compute a select's both sides (a square root or a quotient "could
+# trap"), which keeps the contact loop out of SIMD lanes (contact/lanes.hpp). Neither changes a
+# result: no -ffast-math reassociation, no FMA contraction beyond the default.
+target_compile_options(libdem_flags INTERFACE -fno-math-errno -fno-trapping-math)
 if(LIBDEM_WERROR)
   target_compile_options(libdem_flags INTERFACE -Werror)
 endif()

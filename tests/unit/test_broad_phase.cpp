@@ -66,7 +66,7 @@ std::map<std::pair<int, int>, Vec3> shear_history(const World& world) {
   for (std::size_t k = 0; k < c.size(); ++k) {
     if (c.normal_force[k] <= 0.0) continue;
     const auto* state = reinterpret_cast<const RollingLinearLaw::State*>(c.state.at(k));
-    out[{p.id[static_cast<std::size_t>(c.first[k])], p.id[static_cast<std::size_t>(c.second[k])]}] = state->shear_force;
+    out[{p.id[static_cast<std::size_t>(c.first[k])], p.id[static_cast<std::size_t>(c.second[k])]}] = to_vec3(state->shear_force);
   }
   return out;
 }

@@ -14,15 +14,8 @@
 #include <string>
 
 #include <dem/contact/kinematics.hpp>
+#include <dem/contact/lanes.hpp>
 #include <dem/core/errors.hpp>
-
-// The force functions run once per contact per step inside the engine's templated loop; GCC's
-// heuristics otherwise keep them out of line, which costs about a third of the step.
-#if defined(__GNUC__)
-#define DEM_HOT_INLINE __attribute__((always_inline)) inline
-#else
-#define DEM_HOT_INLINE inline
-#endif
 
 namespace dem {
 
@@ -73,18 +66,25 @@ struct LinearParams {
   }
 
   /// kn and ks of one contact (docs/model.md 1.3).
-  DEM_HOT_INLINE ContactStiffness stiffness(const ContactKinematics& k) const {
+  ContactStiffness stiffness(const ContactKinematics& k) const { return stiffness(k.radius_1, k.radius_2, k.kind); }
+
+  /// The same from the radii (radius_2 = 0 for a facet). Written for the vectorised contact loop:
+  /// each setting becomes a weight of 0 or 1 (the compiler vectorises a product, not a choice
+  /// made on a setting), and a weight of 1 plus a weight-0 term is exact, so this gives the bits
+  /// of the plain "if modulus ... else constant" formula.
+  DEM_HOT_INLINE ContactStiffness stiffness(double radius_1, double radius_2, ContactKind kind) const {
+    const double from_modulus = effective_modulus != 0.0 ? 1.0 : 0.0;
+    const double from_constant = 1.0 - from_modulus;
+    const double ratio = stiffness_ratio > 0.0 ? stiffness_ratio : 1.0;  // unused unless from_modulus
+    // a rigid partner (facet, or pebble taken as a wall) counts as radius 0
+    const double partner_radius = radius_2 * (pebble_as_wall && kind == ContactKind::BallPebble ? 0.0 : 1.0);
+    const bool rigid_partner = partner_radius == 0.0;
+    const double rbar = rigid_partner ? radius_1 : std::min(radius_1, partner_radius);
+    const double length = rigid_partner ? radius_1 : radius_1 + partner_radius;
+    const double modulus_normal = pi * rbar * rbar * effective_modulus / length;
     ContactStiffness s;
-    if (effective_modulus != 0.0) {
-      const bool rigid_partner = k.radius_2 == 0.0 || (pebble_as_wall && k.kind == ContactKind::BallPebble);
-      const double rbar = rigid_partner ? k.radius_1 : std::min(k.radius_1, k.radius_2);
-      const double length = rigid_partner ? k.radius_1 : k.radius_1 + k.radius_2;
-      s.normal = pi * rbar * rbar * effective_modulus / length;
-      s.shear = s.normal / stiffness_ratio;
-    } else {
-      s.normal = normal_stiffness;
-      s.shear = shear_stiffness;
-    }
+    s.normal = from_modulus * modulus_normal + from_constant * normal_stiffness;
+    s.shear = from_modulus * (modulus_normal / ratio) + from_constant * shear_stiffness;
     return s;
   }
 };
@@ -93,44 +93,51 @@ namespace detail {
 
 /// Rotates a stored tangential vector into the current contact plane, keeping its length
 /// (docs/model.md 1.1 step 1; LAMMPS rotates and rescales its tangential history the same way).
-DEM_HOT_INLINE void rotate_into_plane(Vec3& stored, const Vec3& normal) {
-  const double length_sq = stored.squaredNorm();
-  if (length_sq == 0.0) return;
-  // Written per component: GCC sometimes leaves Eigen's `v -= s * n` out of line in the contact
-  // loop (two calls per contact, a few per cent of the step), depending on unrelated code.
-  const double along = stored.dot(normal);
-  stored = Vec3(stored.x() - along * normal.x(), stored.y() - along * normal.y(), stored.z() - along * normal.z());
-  const double projected_sq = stored.squaredNorm();
-  if (projected_sq > 0.0) stored *= std::sqrt(length_sq / projected_sq);
+/// A zero vector stays zero. Written without branches so that the contact loop can compute
+/// several contacts at once (lanes.hpp).
+DEM_HOT_INLINE Lane3 rotate_into_plane(const Lane3& stored, const Lane3& normal) {
+  const double length_sq = squared_norm(stored);
+  const Lane3 projected = stored - dot(stored, normal) * normal;
+  const double projected_sq = squared_norm(projected);
+  // Square roots and quotients are computed for every contact and then selected (never behind a
+  // branch): the compiler only puts branch-free code in SIMD lanes.
+  const bool rescale = projected_sq > 0.0;
+  const double root = std::sqrt(length_sq / (rescale ? projected_sq : 1.0));
+  return (rescale ? root : 1.0) * projected;
 }
 
-/// The linear normal and shear part shared by LinearLaw and RollingLinearLaw. Returns the
-/// elastic normal force (compression positive) and fills `out.force`.
-DEM_HOT_INLINE double linear_force(const LinearParams& p, const ContactStiffness& s, const ContactKinematics& k,
-                           Vec3& shear_force, ContactForce& out) {
-  const Vec3& n = k.normal;
-  const double normal_speed = k.relative_velocity.dot(n);  // < 0 approaching
-  const Vec3 shear_velocity = k.relative_velocity - normal_speed * n;
+/// Scales `v` down to length `limit` if it is longer (the Coulomb and rolling caps).
+DEM_HOT_INLINE Lane3 cap_length(const Lane3& v, double limit) {
+  const double length_sq = squared_norm(v);
+  const bool over = length_sq > limit * limit;
+  const double scale = limit / std::sqrt(over ? length_sq : 1.0);
+  return (over ? scale : 1.0) * v;
+}
+
+/// The linear normal and shear part shared by LinearLaw and RollingLinearLaw: fills `out.force`,
+/// `out.normal_force` (elastic, compression positive) and `out.normal_stiffness`.
+DEM_HOT_INLINE void linear_force(const LinearParams& p, const ContactStiffness& s, const LaneKinematics& k,
+                                 Lane3& shear_force, LaneForce& out) {
+  const Lane3& n = k.normal;
+  const double normal_speed = dot(k.relative_velocity, n);  // < 0 approaching
+  const Lane3 shear_velocity = k.relative_velocity - normal_speed * n;
 
   const double elastic_normal = s.normal * k.overlap;  // absolute mode, compression positive
 
-  rotate_into_plane(shear_force, n);
-  shear_force -= s.shear * k.dt * shear_velocity;  // force on piece 2 opposes its sliding
-  const double shear_limit = p.friction * elastic_normal;
-  const double shear_sq = shear_force.squaredNorm();
-  const bool sliding = shear_sq > shear_limit * shear_limit;
-  if (sliding) shear_force *= shear_limit / std::sqrt(shear_sq);
+  shear_force = rotate_into_plane(shear_force, n);
+  shear_force = shear_force - (s.shear * k.dt) * shear_velocity;  // force on piece 2 opposes its sliding
+  shear_force = cap_length(shear_force, p.friction * elastic_normal);
 
-  double c_n = p.normal_damping_rate * k.effective_mass;
-  double c_s = p.shear_damping_rate * k.effective_mass;
-  if (p.normal_damping_ratio > 0.0) c_n += 2.0 * p.normal_damping_ratio * std::sqrt(k.effective_mass * s.normal);
-  if (p.shear_damping_ratio > 0.0) c_s += 2.0 * p.shear_damping_ratio * std::sqrt(k.effective_mass * s.shear);
+  // Both dashpot forms always computed (no branch in the vectorised loop); a zero ratio adds 0.
+  const double c_n = p.normal_damping_rate * k.effective_mass +
+                     2.0 * p.normal_damping_ratio * std::sqrt(k.effective_mass * s.normal);
+  const double c_s = p.shear_damping_rate * k.effective_mass +
+                     2.0 * p.shear_damping_ratio * std::sqrt(k.effective_mass * s.shear);
 
   const double normal_total = elastic_normal - c_n * normal_speed;
   out.force = normal_total * n + shear_force - c_s * shear_velocity;
   out.normal_force = elastic_normal;
   out.normal_stiffness = s.normal;
-  return elastic_normal;
 }
 
 }  // namespace detail
@@ -139,16 +146,21 @@ DEM_HOT_INLINE double linear_force(const LinearParams& p, const ContactStiffness
 struct LinearLaw {
   using Params = LinearParams;
   struct State {
-    Vec3 shear_force = Vec3::Zero();  // N, on piece 2, in the contact plane
+    Lane3 shear_force{};  // N, on piece 2, in the contact plane
   };
   static constexpr const char* name = "linear";
 
   static ContactStiffness stiffness(const Params& p, const ContactKinematics& k) { return p.stiffness(k); }
 
-  DEM_HOT_INLINE static ContactForce force(const Params& p, const ContactKinematics& k, State& state) {
-    ContactForce out;
-    detail::linear_force(p, p.stiffness(k), k, state.shear_force, out);
+  /// The force in plain doubles: what the engine's vectorised loop calls.
+  DEM_HOT_INLINE static LaneForce force_lanes(const Params& p, const LaneKinematics& k, State& state) {
+    LaneForce out;
+    detail::linear_force(p, p.stiffness(k.radius_1, k.radius_2, k.kind), k, state.shear_force, out);
+    out.moment = Lane3{0.0, 0.0, 0.0};
     return out;
+  }
+  DEM_HOT_INLINE static ContactForce force(const Params& p, const ContactKinematics& k, State& state) {
+    return to_contact_force(force_lanes(p, lane(k), state));
   }
 };
 
@@ -179,14 +191,15 @@ struct RollingLinearLaw {
       LinearParams::validate(where);
       require_non_negative(where + ".rolling_friction", rolling_friction);
     }
-    double rolling_stiffness(const ContactStiffness& s, double effective_radius) const {
+    DEM_HOT_INLINE double rolling_stiffness(const ContactStiffness& s, double effective_radius) const {
       const double r2 = effective_radius * effective_radius;
-      return ai_rolling_stiffness ? 2.25 * s.normal * rolling_friction * rolling_friction * r2 : s.shear * r2;
+      const double ai = ai_rolling_stiffness ? 1.0 : 0.0;  // a weight, as in LinearParams::stiffness
+      return (ai * (2.25 * s.normal * rolling_friction * rolling_friction) + (1.0 - ai) * s.shear) * r2;
     }
   };
   struct State {
-    Vec3 shear_force = Vec3::Zero();     // N, on piece 2
-    Vec3 rolling_moment = Vec3::Zero();  // N m, on piece 2, in the contact plane
+    Lane3 shear_force{};     // N, on piece 2
+    Lane3 rolling_moment{};  // N m, on piece 2, in the contact plane
   };
   static constexpr const char* name = "rolling-linear";
 
@@ -196,20 +209,23 @@ struct RollingLinearLaw {
     return s;
   }
 
-  DEM_HOT_INLINE static ContactForce force(const Params& p, const ContactKinematics& k, State& state) {
-    ContactForce out;
-    const ContactStiffness s = p.stiffness(k);
-    const double normal = detail::linear_force(p, s, k, state.shear_force, out);
+  /// The force in plain doubles: what the engine's vectorised loop calls.
+  DEM_HOT_INLINE static LaneForce force_lanes(const Params& p, const LaneKinematics& k, State& state) {
+    LaneForce out;
+    const ContactStiffness s = p.stiffness(k.radius_1, k.radius_2, k.kind);
+    detail::linear_force(p, s, k, state.shear_force, out);
 
-    const Vec3& n = k.normal;
-    const Vec3 bend_rate = k.relative_angular_velocity - k.relative_angular_velocity.dot(n) * n;
-    detail::rotate_into_plane(state.rolling_moment, n);
-    state.rolling_moment -= p.rolling_stiffness(s, k.effective_radius) * k.dt * bend_rate;
-    const double limit = p.rolling_friction * k.effective_radius * normal;
-    const double moment_sq = state.rolling_moment.squaredNorm();
-    if (moment_sq > limit * limit) state.rolling_moment *= limit / std::sqrt(moment_sq);
-    out.moment = state.rolling_moment;
+    const Lane3& n = k.normal;
+    const Lane3 bend_rate = k.relative_angular_velocity - dot(k.relative_angular_velocity, n) * n;
+    Lane3 moment = detail::rotate_into_plane(state.rolling_moment, n);
+    moment = moment - (p.rolling_stiffness(s, k.effective_radius) * k.dt) * bend_rate;
+    moment = detail::cap_length(moment, p.rolling_friction * k.effective_radius * out.normal_force);
+    state.rolling_moment = moment;
+    out.moment = moment;
     return out;
+  }
+  DEM_HOT_INLINE static ContactForce force(const Params& p, const ContactKinematics& k, State& state) {
+    return to_contact_force(force_lanes(p, lane(k), state));
   }
 };
 
