@@ -221,7 +221,7 @@ TEST_CASE("simple shear: a specimen consolidated again at twice E* keeps its pac
   CHECK_THROWS_WITH(empty.reconsolidate(), Contains("reconsolidate() stage") && Contains("2 (consolidated)"));
 }
 
-TEST_CASE("simple shear: a consolidated specimen is sheared from another folder, which it leaves alone",
+TEST_CASE("simple shear: a consolidated specimen is sheared from another folder, which it leaves alone, and refused under another grading",
           "[simple-shear]") {
   io::Config c = small_config();
   c.set("shear.target_strain", "0.01");
@@ -242,6 +242,16 @@ TEST_CASE("simple shear: a consolidated specimen is sheared from another folder,
   CHECK(io::read_csv(shear_dir / "history.csv").rows.size() > io::read_csv(specimen_dir / "history.csv").rows.size());
   CHECK(file_text(specimen_dir / "history.csv") == specimen_history);
   CHECK(fs::exists(shear_dir / "snapshots" / "balls.pvd"));
+
+  // Under another size scale (the 4D defaults for a 2D specimen, say) the specimen would run with
+  // other contact parameters without a word: refused, naming the sizes, before anything is copied.
+  io::Config other = c;
+  other.set("grading.scale", "2");
+  const fs::path refused_dir = fresh_dir("branch_refused");
+  SimpleShearTest refused(simple_shear_config(other), refused_dir, log);
+  CHECK_THROWS_WITH(refused.load_restart(specimen_dir / "consolidated.restart"),
+                    Contains("ball diameters") && Contains("grading.scale = 2") && Contains("--preset"));
+  CHECK_FALSE(fs::exists(refused_dir / "history.csv"));
 }
 
 TEST_CASE("simple shear: a restart loaded with four times stiffer contacts takes a stable time step", "[simple-shear]") {

@@ -2,6 +2,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <ostream>
 #include <sstream>
@@ -212,14 +213,39 @@ void SimpleShearTest::save_restart(const std::filesystem::path& file) const {
   io::save_checkpoint(file, *world_, protocol_state());
 }
 
+// A specimen resumed under another configuration would run with that configuration's contact
+// parameters and rings without a word (a 2D specimen under the 4D defaults softens and collapses).
+// Its ball sizes tell a different grading or size scale for certain.
+void SimpleShearTest::require_configured_grading(const std::filesystem::path& file) const {
+  const ParticleStore& p = world_->particles();
+  double smallest = std::numeric_limits<double>::infinity(), largest = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (p.is_pebble(i)) continue;
+    smallest = std::min(smallest, 2 * p.radius[i]);
+    largest = std::max(largest, 2 * p.radius[i]);
+  }
+  if (largest == 0.0) return;  // no balls yet
+  const double tolerance = 1e-9;  // relative: the generation draws diameters inside the grading's range
+  const double low = config_.grading.smallest(), high = config_.grading.largest();
+  std::ostringstream found, allowed;
+  found << smallest * 1e3 << "-" << largest * 1e3 << " mm";
+  allowed << "within this run's grading, " << low * 1e3 << "-" << high * 1e3 << " mm (grading.scale = "
+          << config_.grading.scale << "): resume with the configuration the specimen was made with (the same --preset "
+          << "and --config)";
+  require(smallest >= low * (1 - tolerance) && largest <= high * (1 + tolerance),
+          "restart file " + file.string() + ": ball diameters", found.str(), allowed.str());
+}
+
 void SimpleShearTest::load_restart(const std::filesystem::path& file) {
   build_world();  // walls, rings and contact models as configured; the file supplies the state
   servo_.reset();
+  const std::string protocol = io::load_checkpoint(file, *world_);
+  require_configured_grading(file);  // before anything is copied into this run's folder
   // A restart from another folder (a second shear of one consolidated specimen) brings the
   // outputs written up to it, which the restored protocol continues.
   const std::filesystem::path source = std::filesystem::absolute(file).parent_path();
   if (!same_folder(source, out_dir_)) copy_run_files(source, out_dir_);
-  restore_protocol_state(io::load_checkpoint(file, *world_));
+  restore_protocol_state(protocol);
   // The configuration's limit, not the one of the run that wrote the file (older files hold 0.5).
   world_->set_max_overlap_ratio(config_.max_overlap_ratio);
   log_ << "resumed from " << file.string() << " at step " << world_->step_count() << ", time step " << world_->time_step()

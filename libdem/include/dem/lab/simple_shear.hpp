@@ -110,6 +110,7 @@ class SimpleShearTest {
   void progress(const std::string& stage, const std::string& detail) const;
   std::string protocol_state() const;
   void restore_protocol_state(const std::string& text);
+  void require_configured_grading(const std::filesystem::path& file) const;
   Vec3 leg_direction(std::size_t leg) const;
   ServoSettings servo_settings() const;
   double shear_servo_speed() const;  // m/s, cap of the servo plate while shearing
