@@ -29,6 +29,33 @@ inline void merge_worst(OverlapMonitor& into, const OverlapMonitor& other) {
     into = other;
 }
 
+/// A candidate found separated: its history ends (docs/model.md 1.1) and its records are zeroed.
+template <class State>
+void end_contact(PairContacts& c, std::int64_t k, bool records) {
+  state_at<State>(c.state, static_cast<std::size_t>(k)) = State{};
+  c.force[k].setZero();
+  if (records) c.torque_first[static_cast<std::size_t>(k)].setZero();
+  c.normal_force[k] = 0.0;
+}
+
+/// Adds contact k (force `f` on piece 2, torques on both pieces) into its particles' sums, in the
+/// caller's contact order. `Threaded`: a gathered particle is skipped and the torque record kept.
+template <bool Threaded>
+void add_to_particles(const KernelContext& ctx, PairContacts& c, std::int64_t k, std::size_t i, std::size_t j,
+                      const Vec3& f, const Vec3& torque_first, const Vec3& torque_second) {
+  const bool gather_first = Threaded && ctx.gathered[i] != 0;
+  const bool gather_second = Threaded && ctx.gathered[j] != 0;
+  if (!gather_first) {
+    ctx.scatter_force[i] -= f;
+    ctx.scatter_torque[i] += torque_first;
+  }
+  if (!gather_second) {
+    ctx.scatter_force[j] += f;
+    ctx.scatter_torque[j] += torque_second;
+  }
+  if (gather_first || gather_second) c.torque_first[static_cast<std::size_t>(k)] = torque_first;
+}
+
 /// The pair loop over contacts [begin, end): one thread's share. `Threaded`: skip the particles
 /// the engine gathers (KernelContext::gathered) and leave their records; otherwise add into all.
 template <ContactLaw Law, bool Threaded>
@@ -45,12 +72,7 @@ void pair_range(const typename Law::Params& params, PairContacts& c, const Kerne
     if (dist_sq >= reach * reach) {
       // Separated: history ends. A pair that was apart already holds a fresh State and zero
       // records, so most candidates cost no writes at all.
-      if (c.normal_force[k] != 0.0 || !c.force[k].isZero(0.0)) {
-        state_at<State>(c.state, static_cast<std::size_t>(k)) = State{};
-        c.force[k].setZero();
-        if (records) c.torque_first[k].setZero();
-        c.normal_force[k] = 0.0;
-      }
+      if (c.normal_force[k] != 0.0 || !c.force[k].isZero(0.0)) end_contact<State>(c, k, records);
       continue;
     }
     State& state = state_at<State>(c.state, static_cast<std::size_t>(k));
@@ -72,17 +94,7 @@ void pair_range(const typename Law::Params& params, PairContacts& c, const Kerne
     c.force[k] = out.force;
     c.normal_force[k] = out.normal_force;
     const Vec3 torque_first = -arm_first.cross(out.force) - out.moment;
-    const bool gather_first = Threaded && ctx.gathered[i] != 0;
-    const bool gather_second = Threaded && ctx.gathered[j] != 0;
-    if (!gather_first) {
-      ctx.scatter_force[i] -= out.force;
-      ctx.scatter_torque[i] += torque_first;
-    }
-    if (!gather_second) {
-      ctx.scatter_force[j] += out.force;
-      ctx.scatter_torque[j] += second_torque(d, out.force, torque_first);
-    }
-    if (gather_first || gather_second) c.torque_first[k] = torque_first;
+    add_to_particles<Threaded>(ctx, c, k, i, j, out.force, torque_first, second_torque(d, out.force, torque_first));
     const double ratio = kin.overlap / std::min(p.radius[i], p.radius[j]);
     if (ratio > local.ratio) local = OverlapMonitor{ratio, k};
   }
@@ -119,6 +131,14 @@ struct PairBlock {
   double fx[pair_block], fy[pair_block], fz[pair_block];
   double t1x[pair_block], t1y[pair_block], t1z[pair_block], t2x[pair_block], t2y[pair_block], t2z[pair_block];
   double normal_force[pair_block], overlap_ratio[pair_block];
+
+  /// Copies a State's bytes (`history`) into entry m of `state`, and back.
+  void load_history(int m, const std::byte* history) {
+    for (int s = 0; s < state_doubles; ++s) std::memcpy(&state[s][m], history + s * sizeof(double), sizeof(double));
+  }
+  void store_history(int m, std::byte* history) const {
+    for (int s = 0; s < state_doubles; ++s) std::memcpy(history + s * sizeof(double), &state[s][m], sizeof(double));
+  }
 };
 
 /// Kinematics, law and torques of the `count` contacts of a block, each independent of the others
@@ -151,11 +171,9 @@ DEM_INDEPENDENT_ITERATIONS
     kin.dt = dt;
     kin.kind = kind;
     typename Law::State state;
-    for (int s = 0; s < b.state_doubles; ++s)
-      std::memcpy(reinterpret_cast<char*>(&state) + s * sizeof(double), &b.state[s][m], sizeof(double));
+    b.store_history(m, reinterpret_cast<std::byte*>(&state));
     const LaneForce out = Law::force_lanes(params, kin, state);
-    for (int s = 0; s < b.state_doubles; ++s)
-      std::memcpy(&b.state[s][m], reinterpret_cast<const char*>(&state) + s * sizeof(double), sizeof(double));
+    b.load_history(m, reinterpret_cast<const std::byte*>(&state));
     const Lane3 torque_first = -cross(arm_first, out.force) - out.moment;
     const Lane3 torque_second = -cross(d, out.force) - torque_first;  // as second_torque()
     b.fx[m] = out.force.x, b.fy[m] = out.force.y, b.fz[m] = out.force.z;
@@ -174,30 +192,23 @@ DEM_INDEPENDENT_ITERATIONS
 // once where the baseline rounds twice), so a result never depends on the path.
 #if defined(__AVX2__)
 inline bool lanes_worthwhile() { return true; }
-template <LaneContactLaw Law>
-void compute_block(const typename Law::Params& params, PairBlock<typename Law::State>& b, int count, double dt,
-                   ContactKind kind) {
-  block_lanes<Law>(params, b, count, dt, kind);
-}
+#define DEM_BLOCK_TARGET
 #elif defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 inline bool lanes_worthwhile() {
   static const bool avx2 = __builtin_cpu_supports("avx2");
   return avx2;
 }
-template <LaneContactLaw Law>
-__attribute__((target("avx2"))) void compute_block(const typename Law::Params& params,
-                                                   PairBlock<typename Law::State>& b, int count, double dt,
-                                                   ContactKind kind) {
-  block_lanes<Law>(params, b, count, dt, kind);
-}
+#define DEM_BLOCK_TARGET __attribute__((target("avx2")))
 #else
 inline bool lanes_worthwhile() { return false; }
+#define DEM_BLOCK_TARGET
+#endif
+
 template <LaneContactLaw Law>
-void compute_block(const typename Law::Params& params, PairBlock<typename Law::State>& b, int count, double dt,
-                   ContactKind kind) {
+DEM_BLOCK_TARGET void compute_block(const typename Law::Params& params, PairBlock<typename Law::State>& b, int count,
+                                    double dt, ContactKind kind) {
   block_lanes<Law>(params, b, count, dt, kind);
 }
-#endif
 
 /// pair_range for a lane law: the same contacts, block by block. Sums into particles happen in
 /// contact order, as in pair_range, so both give the same bits.
@@ -234,12 +245,7 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
       count += separated ? 0 : 1;
       const Vec3& f = force[k];
       const bool had_force = (normal_force[k] != 0.0) | (f.x() != 0.0) | (f.y() != 0.0) | (f.z() != 0.0);
-      if (separated & had_force) {
-        state_at<State>(c.state, static_cast<std::size_t>(k)) = State{};
-        force[k].setZero();
-        if (records) c.torque_first[static_cast<std::size_t>(k)].setZero();
-        normal_force[k] = 0.0;
-      }
+      if (separated & had_force) end_contact<State>(c, k, records);
     }
     for (int m = 0; m < count; ++m) {
       const auto i = static_cast<std::size_t>(b.first[m]);
@@ -249,33 +255,18 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
       b.w1x[m] = w[i].x(), b.w1y[m] = w[i].y(), b.w1z[m] = w[i].z();
       b.w2x[m] = w[j].x(), b.w2y[m] = w[j].y(), b.w2z[m] = w[j].z();
       b.inv_mass_1[m] = inv_mass[i], b.inv_mass_2[m] = inv_mass[j];
-      const std::byte* history = c.state.at(static_cast<std::size_t>(b.contact[m]));
-      for (int s = 0; s < b.state_doubles; ++s)
-        std::memcpy(&b.state[s][m], history + s * sizeof(double), sizeof(double));
+      b.load_history(m, c.state.at(static_cast<std::size_t>(b.contact[m])));
     }
     compute_block<Law>(params, b, count, ctx.dt, c.kind);
     for (int m = 0; m < count; ++m) {
       const std::int64_t k_m = b.contact[m];
       const auto i = static_cast<std::size_t>(b.first[m]);
       const auto j = static_cast<std::size_t>(b.second[m]);
-      std::byte* history = c.state.at(static_cast<std::size_t>(k_m));
-      for (int s = 0; s < b.state_doubles; ++s)
-        std::memcpy(history + s * sizeof(double), &b.state[s][m], sizeof(double));
-      const Vec3 f(b.fx[m], b.fy[m], b.fz[m]);
-      const Vec3 torque_first(b.t1x[m], b.t1y[m], b.t1z[m]);
-      force[k_m] = f;
+      b.store_history(m, c.state.at(static_cast<std::size_t>(k_m)));
+      force[k_m] = Vec3(b.fx[m], b.fy[m], b.fz[m]);
       normal_force[k_m] = b.normal_force[m];
-      const bool gather_first = Threaded && ctx.gathered[i] != 0;
-      const bool gather_second = Threaded && ctx.gathered[j] != 0;
-      if (!gather_first) {
-        ctx.scatter_force[i] -= f;
-        ctx.scatter_torque[i] += torque_first;
-      }
-      if (!gather_second) {
-        ctx.scatter_force[j] += f;
-        ctx.scatter_torque[j] += Vec3(b.t2x[m], b.t2y[m], b.t2z[m]);
-      }
-      if (gather_first || gather_second) c.torque_first[static_cast<std::size_t>(k_m)] = torque_first;
+      add_to_particles<Threaded>(ctx, c, k_m, i, j, force[k_m], Vec3(b.t1x[m], b.t1y[m], b.t1z[m]),
+                                 Vec3(b.t2x[m], b.t2y[m], b.t2z[m]));
       if (b.overlap_ratio[m] > local.ratio) local = OverlapMonitor{b.overlap_ratio[m], k_m};
     }
   }
@@ -314,8 +305,9 @@ void compute_pairs(const typename Law::Params& params, PairContacts& c, const Ke
     const bool as_planned = threads == 1;
     const int me = 0;
 #endif
-    const std::int64_t begin = as_planned ? (threads > 1 ? c.shares[static_cast<std::size_t>(me)] : 0) : 0;
-    const std::int64_t end = as_planned ? (threads > 1 ? c.shares[static_cast<std::size_t>(me) + 1] : count) : (me == 0 ? count : 0);
+    std::int64_t begin = 0, end = me == 0 ? count : 0;
+    if (as_planned && threads > 1)
+      begin = c.shares[static_cast<std::size_t>(me)], end = c.shares[static_cast<std::size_t>(me) + 1];
     if (gathered) pair_share<Law, true>(params, c, ctx, begin, end, records, local);
     else pair_share<Law, false>(params, c, ctx, begin, end, records, local);
 #pragma omp critical(dem_overlap_monitor)
