@@ -180,6 +180,11 @@ int main(int argc, char** argv) {
     std::printf("loop_time_s: %.3f\nparticle_steps_per_second: %.4g\n", seconds, ball_count * steps / seconds);
     std::printf("contacts_per_ball_start: %.4f\ncontacts_per_ball_end: %.4f\n", contacts_start,
                 2.0 * world.contact_count(ContactKind::BallBall) / ball_count);
+    // Candidate pairs per ball (within reach + skin): what the pair loop scans every step.
+    const PairContacts& pairs = world.pair_contacts(ContactKind::BallBall);
+    std::printf("candidates_per_ball: %.4f\nnear_candidates_per_ball: %.4f\nnear_refreshes: %lld\n",
+                2.0 * static_cast<double>(pairs.size()) / ball_count, 2.0 * static_cast<double>(pairs.near.size()) / ball_count,
+                static_cast<long long>(world.near_refresh_count()));
     std::printf("vertical_stress_Pa: %.6g\nkinetic_energy_J: %.6g\nrebuilds: %lld\npeak_rss_bytes_per_ball: %.0f\n",
                 vertical_stress(world, top_now), world.kinetic_energy(), static_cast<long long>(world.rebuild_count()),
                 usage.ru_maxrss * 1024.0 / ball_count);

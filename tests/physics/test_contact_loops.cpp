@@ -32,9 +32,10 @@ static_assert(!detail::LaneContactLaw<RollingOneAtATime>);
 /// Balls poured onto a floor under strong gravity, then the floor tilts by moving sideways:
 /// contacts load, slide (Coulomb cap) and roll (rolling cap).
 template <class Law>
-World pile(const typename Law::Params& params) {
+World pile(const typename Law::Params& params, double near_skin = 0.0) {
   WorldSettings s;
   s.gravity = Vec3(2000.0, 0.0, -5000.0);
+  s.near_skin = near_skin;
   World world(s);
   for (auto b : separated_balls(300, 5e-3, 0.25e-3, 0.4e-3, 5)) {
     b.position.z() += 0.5e-3;
@@ -106,4 +107,23 @@ TEST_CASE("contact loops: blocks in SIMD lanes and one contact at a time give th
     params.shear_damping_rate = 5e3;
     require_same_bits(pile<RollingLinearLaw>(params), pile<RollingOneAtATime>(params));
   }
+}
+
+TEST_CASE("contact loops: the near list changes no result, however small or large its skin",
+          "[physics][contact]") {
+  const auto params = RollingLinearLaw::Params::deformable(modulus_ball, 1.5, 0.3, 0.1);
+  // 1 nm: remade nearly every step, holding little beyond the touching contacts; 1 m: every
+  // candidate; default: a fifth of the Verlet skin. A wrong refresh criterion would miss contacts
+  // as they close, and the piles would part.
+  const World tight = pile<RollingLinearLaw>(params, 1e-9);
+  const World loose = pile<RollingLinearLaw>(params, 1.0);
+  const World usual = pile<RollingLinearLaw>(params);
+  const PairContacts& c = tight.pair_contacts(ContactKind::BallBall);
+  INFO("candidates " << c.size() << ", near with 1 nm " << c.near.size() << ", near refreshes " << tight.near_refresh_count());
+  REQUIRE(c.near.size() < c.size());
+  REQUIRE(loose.pair_contacts(ContactKind::BallBall).near.size() == loose.pair_contacts(ContactKind::BallBall).size());
+  REQUIRE(tight.near_refresh_count() > usual.near_refresh_count());
+  require_same_bits(tight, usual);
+  require_same_bits(loose, usual);
+  SECTION("and one contact at a time") { require_same_bits(pile<RollingOneAtATime>(params, 1e-9), usual); }
 }

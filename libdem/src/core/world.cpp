@@ -22,6 +22,7 @@ World::World(WorldSettings settings) : settings_(settings) {
           settings_.local_damping, "in [0, 1)");
   require(settings_.gravity.allFinite(), "gravity", "(non-finite)", "finite");
   require_non_negative("skin", settings_.skin);
+  require_non_negative("near_skin", settings_.near_skin);
   require(settings_.threads >= 0, "threads", settings_.threads, ">= 0 (0: OMP_NUM_THREADS)");
   require_positive("max_overlap_ratio", settings_.max_overlap_ratio);
   require_positive("max_step_travel_ratio", settings_.max_step_travel_ratio);
@@ -103,6 +104,7 @@ void World::add_callback(std::int64_t every, std::function<void(World&)> callbac
 void World::step(std::int64_t n) {
   for (std::int64_t s = 0; s < n; ++s) {
     if (need_rebuild_ || needs_rebuild()) rebuild(settings_.sort_every > 0 && rebuilds_ % settings_.sort_every == 0);
+    if (near_stale_ || 2.0 * std::sqrt(max_near_travel_sq_) > near_skin_) refresh_near();
     if (dt_ <= 0.0) update_time_step();
     compute_forces();
     for (auto& controller : controllers_) controller(*this);

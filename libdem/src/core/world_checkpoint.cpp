@@ -453,6 +453,7 @@ PairContacts read_pairs(Reader& r, const ContactModel* model, ContactKind kind, 
   fill_results(c.torque_first, count, name + ".torque_first");
   fill_results(torque_second, count, name + ".torque_second");
   read_states(r, model, c.state, count, name);
+  mark_touching(c);
   return c;
 }
 
@@ -654,6 +655,7 @@ void World::load_state(std::istream& in) {
   need_rebuild_ = need_rebuild, rebuilds_ = rebuilds;
   max_travel_sq_ = max_travel_sq, max_wall_travel_ = max_wall_travel, skin_ = skin;
   gather_plan_stale_ = true;  // the loaded contact lists are not those the plan was made for
+  near_stale_ = true;
   // The file's time step belongs to the stiffness it was written with. Contact models that are
   // stiffer (another E*) need a shorter one; the same models keep the file's (the estimate moves by
   // far less than the margin between rebuilds), so a resumed run stays the same run.

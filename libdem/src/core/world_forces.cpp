@@ -49,8 +49,14 @@ void World::plan_gather() {
   for (PairContacts* c : {&ball_ball_, &ball_pebble_}) {
     const auto count = static_cast<std::int64_t>(c->size());
     const int threads = threads_for(count, threads_);
-    // Equal work per share: a touching contact costs about four separated candidates.
-    auto work = [c](std::int64_t k) -> std::int64_t { return c->normal_force[static_cast<std::size_t>(k)] > 0.0 ? 4 : 1; };
+    // Equal work per share: a touching contact costs about four separated near candidates, and
+    // the loops skip the others.
+    std::vector<std::uint8_t> near(static_cast<std::size_t>(count), 0);
+    for (const std::int32_t k : c->near) near[static_cast<std::size_t>(k)] = 1;
+    auto work = [c, &near](std::int64_t k) -> std::int64_t {
+      const auto s = static_cast<std::size_t>(k);
+      return near[s] == 0 ? 0 : c->normal_force[s] > 0.0 ? 4 : 1;
+    };
     std::vector<std::int64_t>& shares = c->shares;
     shares.assign(1, 0);
     std::int64_t total = 0;

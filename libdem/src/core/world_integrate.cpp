@@ -36,11 +36,14 @@ void World::integrate() {
   const Vec3 g = settings_.gravity;
   const double dt = dt_;
   const auto n = static_cast<std::int64_t>(p.size());
-  double travel_sq = max_travel_sq_;
+  double travel_sq = max_travel_sq_, near_travel_sq = max_near_travel_sq_;
   std::int64_t bad = std::numeric_limits<std::int64_t>::max();
   const double step_ratio_sq = settings_.max_step_travel_ratio * settings_.max_step_travel_ratio;
+  if (x_at_near_.size() != p.size()) near_stale_ = true;  // particles changed by hand since
+  const Vec3* x_at_near = near_stale_ ? p.x.data() : x_at_near_.data();
 
-#pragma omp parallel for schedule(static) num_threads(threads_for(n, threads_)) reduction(max : travel_sq) reduction(min : bad)
+#pragma omp parallel for schedule(static) num_threads(threads_for(n, threads_)) \
+    reduction(max : travel_sq, near_travel_sq) reduction(min : bad)
   for (std::int64_t s = 0; s < n; ++s) {
     const auto i = static_cast<std::size_t>(s);
     if (p.clump[i] >= 0) continue;
@@ -57,10 +60,12 @@ void World::integrate() {
     const Vec3 move = p.v[i] * dt;
     p.x[i] += move;
     travel_sq = std::max(travel_sq, (p.x[i] - x_at_rebuild_[i]).squaredNorm());
+    near_travel_sq = std::max(near_travel_sq, (p.x[i] - x_at_near[i]).squaredNorm());
     const double r = p.radius[i];
     if (!(move.squaredNorm() <= step_ratio_sq * r * r) || !p.w[i].allFinite()) bad = std::min(bad, s);
   }
   max_travel_sq_ = travel_sq;
+  max_near_travel_sq_ = near_travel_sq;
   if (bad != std::numeric_limits<std::int64_t>::max()) {
     const auto i = static_cast<std::size_t>(bad);
     std::ostringstream what;
@@ -118,7 +123,7 @@ void World::integrate() {
 
 void World::update_pebbles() {
   ParticleStore& p = particles_;
-  double travel_sq = max_travel_sq_;
+  double travel_sq = max_travel_sq_, near_travel_sq = max_near_travel_sq_;
   for (const Clump& c : clumps_) {
     const Mat3 r = c.orientation.toRotationMatrix();
     for (std::size_t k = 0; k < c.pebbles.size(); ++k) {
@@ -128,9 +133,11 @@ void World::update_pebbles() {
       p.v[i] = c.v + c.w.cross(arm);
       p.w[i] = c.w;
       if (i < x_at_rebuild_.size()) travel_sq = std::max(travel_sq, (p.x[i] - x_at_rebuild_[i]).squaredNorm());
+      if (i < x_at_near_.size()) near_travel_sq = std::max(near_travel_sq, (p.x[i] - x_at_near_[i]).squaredNorm());
     }
   }
   max_travel_sq_ = travel_sq;
+  max_near_travel_sq_ = near_travel_sq;
 }
 
 void World::check_stability(const OverlapMonitor& worst, ContactKind kind) {

@@ -1,6 +1,7 @@
 // The broad phase of the World: Verlet lists with a skin, rebuilt only when something has moved
 // far enough to matter, with contact history carried over by stable particle ids, and the
-// per-particle incidence lists for the fixed-order force gather.
+// per-particle incidence lists for the fixed-order force gather, and the near lists that the
+// contact loops run over.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -127,6 +128,8 @@ void World::rebuild(bool resort) {
   std::vector<std::int32_t>().swap(second);
   carry_history(contact_model(ContactKind::BallBall), bb, ball_ball_, bb_source);
   carry_history(contact_model(ContactKind::BallPebble), bp, ball_pebble_, bp_source);
+  mark_touching(bb);
+  mark_touching(bp);
   ball_ball_ = std::move(bb);
   ball_pebble_ = std::move(bp);
   build_incidence(ball_ball_, p.size(), bb_offsets_, bb_entries_);
@@ -190,9 +193,32 @@ void World::rebuild(bool resort) {
   wall_disp_at_rebuild_.clear();
   for (const auto& w : walls_) wall_disp_at_rebuild_.push_back(w.displacement);
   need_rebuild_ = false;
+  near_stale_ = true;
   gather_plan_stale_ = true;
   ++rebuilds_;
   if (settings_.time_step <= 0.0 && dt_ > 0.0) update_time_step();
+}
+
+void World::refresh_near() {
+  const ParticleStore& p = particles_;
+  near_skin_ = settings_.near_skin > 0.0 ? settings_.near_skin : 0.2 * skin_;
+  for (PairContacts* c : {&ball_ball_, &ball_pebble_}) {
+    if (c->touching.size() != c->size()) mark_touching(*c);
+    // A candidate left out is more than near_skin apart now, so it cannot touch before some
+    // particle has moved half of that, when the list is made again. One that touched in the
+    // last step stays in, so that the loop ends its history as usual.
+    c->near.clear();
+    for (std::size_t k = 0; k < c->size(); ++k) {
+      const auto i = static_cast<std::size_t>(c->first[k]);
+      const auto j = static_cast<std::size_t>(c->second[k]);
+      const double reach = p.radius[i] + p.radius[j] + near_skin_;
+      if (c->touching[k] || (p.x[j] - p.x[i]).squaredNorm() < reach * reach) c->near.push_back(static_cast<std::int32_t>(k));
+    }
+  }
+  x_at_near_ = p.x;
+  max_near_travel_sq_ = 0.0;
+  near_stale_ = false;
+  ++near_refreshes_;
 }
 
 }  // namespace dem

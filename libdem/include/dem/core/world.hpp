@@ -2,7 +2,9 @@
 // type, the broad phase and the clock. There are no globals: two Worlds are independent.
 //
 // A step (leapfrog, as PFC's velocity Verlet with velocities half a step behind, docs/model.md 2):
-//   1. rebuild the Verlet lists if something moved more than allowed by the skin;
+//   1. rebuild the Verlet lists if something moved more than allowed by the skin, and refresh
+//      their near lists (the candidates that can touch soon) if something moved more than allowed
+//      by the near skin;
 //   2. contact forces from the positions at t and the velocities at t - dt/2, summed per
 //      particle in contact order (results do not depend on the thread count);
 //   3. controllers run (servo walls, user protocols) and may change wall velocities;
@@ -39,7 +41,10 @@ struct WorldSettings {
   double time_step_safety = 0.8;     // -, dt = safety * critical estimate
   double local_damping = 0.7;        // -, PFC local damping alpha (0 for dynamic problems)
   Vec3 gravity = Vec3::Zero();       // m/s^2
-  double skin = 0.0;                 // m, Verlet skin; 0: 0.2 x the smallest ball radius... see .cpp
+  double skin = 0.0;                 // m, Verlet skin; 0: half the smallest ball radius
+  double near_skin = 0.0;            // m, the pair loops skip candidates farther apart than this,
+                                     //    refreshing the list as particles move; 0: a fifth of the
+                                     //    skin. Speed only: results do not depend on it
   int sort_every = 20;               // re-sort particles in cell order every this many rebuilds (0: never)
   int threads = 0;                   // 0: OpenMP default (OMP_NUM_THREADS)
   double max_overlap_ratio = 1.0;    // -, overlap / smaller radius that stops the run as unstable
@@ -132,6 +137,7 @@ class World {
   const PairContacts& pair_contacts(ContactKind kind) const;
   const WallContacts& wall_contacts() const { return wall_contacts_; }
   std::int64_t rebuild_count() const { return rebuilds_; }
+  std::int64_t near_refresh_count() const { return near_refreshes_; }
   /// Forces a neighbour-list rebuild with re-sorting now (tests of history preservation).
   void rebuild_now(bool resort);
 
@@ -143,6 +149,7 @@ class World {
   void update_pebbles();
   void check_stability(const OverlapMonitor& pairs_worst, ContactKind pairs_kind);
   bool needs_rebuild() const;
+  void refresh_near();
   [[noreturn]] void fail(const std::string& what, std::size_t particle) const;
   double resolved_skin() const;
 
@@ -172,6 +179,13 @@ class World {
   double max_travel_sq_ = 0.0;  // largest squared displacement since the last rebuild, m^2
   double max_wall_travel_ = 0.0;
   double skin_ = 0.0;  // m, the skin of the current lists (resolved at each rebuild)
+  // The near lists (PairContacts::near): positions when they were made, and the largest squared
+  // displacement since. Derived state: never saved, remade after a rebuild or a load.
+  std::vector<Vec3> x_at_near_;
+  double max_near_travel_sq_ = 0.0;
+  double near_skin_ = 0.0;  // m
+  bool near_stale_ = true;
+  std::int64_t near_refreshes_ = 0;
   // With several threads: the particles whose pair contacts fall in more than one thread's share
   // (their forces are gathered from per-contact records), planned once per neighbour list.
   std::vector<std::uint8_t> gathered_;

@@ -36,12 +36,13 @@ void end_contact(PairContacts& c, std::int64_t k, bool records) {
   c.force[k].setZero();
   if (records) c.torque_first[static_cast<std::size_t>(k)].setZero();
   c.normal_force[k] = 0.0;
+  c.touching[static_cast<std::size_t>(k)] = 0;
 }
 
 /// Adds contact k (force `f` on piece 2, torques on both pieces) into its particles' sums, in the
 /// caller's contact order. `Threaded`: a gathered particle is skipped and the torque record kept.
 template <bool Threaded>
-void add_to_particles(const KernelContext& ctx, PairContacts& c, std::int64_t k, std::size_t i, std::size_t j,
+DEM_HOT_INLINE void add_to_particles(const KernelContext& ctx, PairContacts& c, std::int64_t k, std::size_t i, std::size_t j,
                       const Vec3& f, const Vec3& torque_first, const Vec3& torque_second) {
   const bool gather_first = Threaded && ctx.gathered[i] != 0;
   const bool gather_second = Threaded && ctx.gathered[j] != 0;
@@ -56,14 +57,16 @@ void add_to_particles(const KernelContext& ctx, PairContacts& c, std::int64_t k,
   if (gather_first || gather_second) c.torque_first[static_cast<std::size_t>(k)] = torque_first;
 }
 
-/// The pair loop over contacts [begin, end): one thread's share. `Threaded`: skip the particles
-/// the engine gathers (KernelContext::gathered) and leave their records; otherwise add into all.
+/// The pair loop over the near candidates c.near[begin, end): one thread's share. `Threaded`: skip
+/// the particles the engine gathers (KernelContext::gathered) and leave their records; otherwise
+/// add into all.
 template <ContactLaw Law, bool Threaded>
 void pair_range(const typename Law::Params& params, PairContacts& c, const KernelContext& ctx, std::int64_t begin,
                 std::int64_t end, bool records, OverlapMonitor& local) {
   using State = typename Law::State;
   const ParticleStore& p = *ctx.particles;
-  for (std::int64_t k = begin; k < end; ++k) {
+  for (std::int64_t a = begin; a < end; ++a) {
+    const std::int64_t k = c.near[static_cast<std::size_t>(a)];
     const auto i = static_cast<std::size_t>(c.first[k]);
     const auto j = static_cast<std::size_t>(c.second[k]);
     const Vec3 d = p.x[j] - p.x[i];
@@ -72,7 +75,7 @@ void pair_range(const typename Law::Params& params, PairContacts& c, const Kerne
     if (dist_sq >= reach * reach) {
       // Separated: history ends. A pair that was apart already holds a fresh State and zero
       // records, so most candidates cost no writes at all.
-      if (c.normal_force[k] != 0.0 || !c.force[k].isZero(0.0)) end_contact<State>(c, k, records);
+      if (c.touching[static_cast<std::size_t>(k)]) end_contact<State>(c, k, records);
       continue;
     }
     State& state = state_at<State>(c.state, static_cast<std::size_t>(k));
@@ -93,6 +96,7 @@ void pair_range(const typename Law::Params& params, PairContacts& c, const Kerne
     const ContactForce out = Law::force(params, kin, state);
     c.force[k] = out.force;
     c.normal_force[k] = out.normal_force;
+    c.touching[static_cast<std::size_t>(k)] = (out.normal_force != 0.0) | !out.force.isZero(0.0);
     const Vec3 torque_first = -arm_first.cross(out.force) - out.moment;
     add_to_particles<Threaded>(ctx, c, k, i, j, out.force, torque_first, second_torque(d, out.force, torque_first));
     const double ratio = kin.overlap / std::min(p.radius[i], p.radius[j]);
@@ -210,7 +214,7 @@ DEM_BLOCK_TARGET void compute_block(const typename Law::Params& params, PairBloc
   block_lanes<Law>(params, b, count, dt, kind);
 }
 
-/// pair_range for a lane law: the same contacts, block by block. Sums into particles happen in
+/// pair_range for a lane law: the same near candidates, block by block. Sums into particles happen in
 /// contact order, as in pair_range, so both give the same bits.
 template <LaneContactLaw Law, bool Threaded>
 void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const KernelContext& ctx,
@@ -224,16 +228,19 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
   const double* inv_mass = p.inv_mass.data();
   const std::int32_t* first = c.first.data();
   const std::int32_t* second = c.second.data();
+  const std::int32_t* near = c.near.data();
   Vec3* force = c.force.data();
   double* normal_force = c.normal_force.data();
+  std::uint8_t* touching = c.touching.data();
   PairBlock<State> b;
-  for (std::int64_t k = begin; k < end;) {
+  for (std::int64_t a = begin; a < end;) {
     // The touching candidates of the next stretch, in order, without a branch on which ones
     // touch (half of them do: unpredictable): every candidate is written to the next slot, which
     // only a touching one keeps. A separated candidate that touched last step ends its history
     // (the rare case, so its branch predicts well).
     int count = 0;
-    for (; k < end && count < pair_block; ++k) {
+    for (; a < end && count < pair_block; ++a) {
+      const std::int64_t k = near[a];
       const std::int32_t i = first[k], j = second[k];
       const Lane3 d = lane(x[j]) - lane(x[i]);
       const double reach = radius[i] + radius[j];
@@ -243,9 +250,7 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
       b.dx[count] = d.x, b.dy[count] = d.y, b.dz[count] = d.z;
       b.radius_1[count] = radius[i], b.radius_2[count] = radius[j];
       count += separated ? 0 : 1;
-      const Vec3& f = force[k];
-      const bool had_force = (normal_force[k] != 0.0) | (f.x() != 0.0) | (f.y() != 0.0) | (f.z() != 0.0);
-      if (separated & had_force) end_contact<State>(c, k, records);
+      if (separated & (touching[k] != 0)) end_contact<State>(c, k, records);
     }
     for (int m = 0; m < count; ++m) {
       const auto i = static_cast<std::size_t>(b.first[m]);
@@ -265,6 +270,7 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
       b.store_history(m, c.state.at(static_cast<std::size_t>(k_m)));
       force[k_m] = Vec3(b.fx[m], b.fy[m], b.fz[m]);
       normal_force[k_m] = b.normal_force[m];
+      touching[k_m] = (b.normal_force[m] != 0.0) | (b.fx[m] != 0.0) | (b.fy[m] != 0.0) | (b.fz[m] != 0.0);
       add_to_particles<Threaded>(ctx, c, k_m, i, j, force[k_m], Vec3(b.t1x[m], b.t1y[m], b.t1z[m]),
                                  Vec3(b.t2x[m], b.t2y[m], b.t2z[m]));
       if (b.overlap_ratio[m] > local.ratio) local = OverlapMonitor{b.overlap_ratio[m], k_m};
@@ -291,6 +297,7 @@ void compute_pairs(const typename Law::Params& params, PairContacts& c, const Ke
   const int threads = gathered && c.shares.size() >= 2 ? static_cast<int>(c.shares.size()) - 1 : 1;
   c.force.resize(c.size(), Vec3::Zero());
   c.normal_force.resize(c.size(), 0.0);
+  if (c.touching.size() != c.size()) mark_touching(c);
   if (gathered) c.torque_first.resize(c.size(), Vec3::Zero());  // records only the gather reads
   const bool records = !c.torque_first.empty();
 #pragma omp parallel num_threads(threads)
@@ -308,6 +315,9 @@ void compute_pairs(const typename Law::Params& params, PairContacts& c, const Ke
     std::int64_t begin = 0, end = me == 0 ? count : 0;
     if (as_planned && threads > 1)
       begin = c.shares[static_cast<std::size_t>(me)], end = c.shares[static_cast<std::size_t>(me) + 1];
+    // The share's contacts [begin, end) as positions in the near list.
+    begin = std::lower_bound(c.near.begin(), c.near.end(), begin) - c.near.begin();
+    end = std::lower_bound(c.near.begin(), c.near.end(), end) - c.near.begin();
     if (gathered) pair_share<Law, true>(params, c, ctx, begin, end, records, local);
     else pair_share<Law, false>(params, c, ctx, begin, end, records, local);
 #pragma omp critical(dem_overlap_monitor)
