@@ -92,8 +92,12 @@ void World::compute_forces() {
   ctx.threads = threads_;
 
   ParticleStore& p = particles_;
-  std::fill(p.f.begin(), p.f.end(), Vec3::Zero());
-  std::fill(p.t.begin(), p.t.end(), Vec3::Zero());
+  const auto n = static_cast<std::int64_t>(p.size());
+#pragma omp parallel for schedule(static) num_threads(threads_for(n, threads_))
+  for (std::int64_t i = 0; i < n; ++i) {
+    p.f[static_cast<std::size_t>(i)].setZero();
+    p.t[static_cast<std::size_t>(i)].setZero();
+  }
   ctx.scatter_force = p.f.data();
   ctx.scatter_torque = p.t.data();
   const bool parallel = threads_for(static_cast<std::int64_t>(ball_ball_.size()), threads_) > 1;
@@ -107,9 +111,9 @@ void World::compute_forces() {
   if (wall_contacts_.size() > 0) model_for(models_[1], ContactKind::BallFacet).compute(wall_contacts_, ctx, worst_wall);
 
   if (parallel) {
-    const auto n = static_cast<std::int64_t>(gathered_list_.size());
-#pragma omp parallel for schedule(static) num_threads(threads_for(16 * n, threads_))
-    for (std::int64_t s = 0; s < n; ++s) {
+    const auto gathered = static_cast<std::int64_t>(gathered_list_.size());
+#pragma omp parallel for schedule(static) num_threads(threads_for(16 * gathered, threads_))
+    for (std::int64_t s = 0; s < gathered; ++s) {
       const auto i = static_cast<std::size_t>(gathered_list_[static_cast<std::size_t>(s)]);
       Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
       gather(ball_ball_, bb_offsets_, bb_entries_, p.x, i, force, torque);

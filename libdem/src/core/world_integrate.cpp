@@ -78,8 +78,14 @@ void World::integrate() {
     fail(what.str(), i);
   }
 
-  // Clumps: rigid bodies driven by the forces on their pebbles (docs/model.md 4).
-  for (Clump& c : clumps_) {
+  // Clumps: rigid bodies driven by the forces on their pebbles (docs/model.md 4). Each clump is
+  // its own: they run in parallel (a ring stack has thousands of pebbles), each summing its
+  // pebbles in order.
+  const auto clump_count = static_cast<std::int64_t>(clumps_.size());
+  std::int64_t bad_clump = clump_count;
+#pragma omp parallel for schedule(static) num_threads(threads_for(pebble_count(), threads_)) reduction(min : bad_clump)
+  for (std::int64_t ci = 0; ci < clump_count; ++ci) {
+    Clump& c = clumps_[static_cast<std::size_t>(ci)];
     Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
     for (ParticleId pid : c.pebbles) {
       const std::size_t i = p.index_of(pid);
@@ -103,8 +109,10 @@ void World::integrate() {
     // A finite spin whose norm overflows makes the orientation NaN while w itself stays finite;
     // the pebbles would then go NaN unseen and break the next broad-phase rebuild.
     if (!c.x.allFinite() || !c.v.allFinite() || !c.w.allFinite() || !c.orientation.coeffs().allFinite())
-      fail("its clump became NaN or infinite", p.index_of(c.pebbles.front()));
+      bad_clump = std::min(bad_clump, ci);
   }
+  if (bad_clump < clump_count)
+    fail("its clump became NaN or infinite", p.index_of(clumps_[static_cast<std::size_t>(bad_clump)].pebbles.front()));
   if (!clumps_.empty()) update_pebbles();
 
   for (std::size_t w = 0; w < walls_.size(); ++w) {
@@ -121,10 +129,20 @@ void World::integrate() {
   }
 }
 
+std::int64_t World::pebble_count() const {
+  std::int64_t count = 0;
+  for (const Clump& c : clumps_) count += static_cast<std::int64_t>(c.pebbles.size());
+  return count;
+}
+
 void World::update_pebbles() {
   ParticleStore& p = particles_;
   double travel_sq = max_travel_sq_, near_travel_sq = max_near_travel_sq_;
-  for (const Clump& c : clumps_) {
+  const auto clump_count = static_cast<std::int64_t>(clumps_.size());
+#pragma omp parallel for schedule(static) num_threads(threads_for(pebble_count(), threads_)) \
+    reduction(max : travel_sq, near_travel_sq)
+  for (std::int64_t ci = 0; ci < clump_count; ++ci) {
+    const Clump& c = clumps_[static_cast<std::size_t>(ci)];
     const Mat3 r = c.orientation.toRotationMatrix();
     for (std::size_t k = 0; k < c.pebbles.size(); ++k) {
       const std::size_t i = p.index_of(c.pebbles[k]);

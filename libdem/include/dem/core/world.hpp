@@ -147,6 +147,7 @@ class World {
   void plan_gather();
   void integrate();
   void update_pebbles();
+  std::int64_t pebble_count() const;
   void check_stability(const OverlapMonitor& pairs_worst, ContactKind pairs_kind);
   bool needs_rebuild() const;
   void refresh_near();
