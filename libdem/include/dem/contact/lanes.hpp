@@ -31,6 +31,13 @@
 #define DEM_INDEPENDENT_ITERATIONS
 #endif
 
+// "This address will be written soon": starts loading its cache line (a hint; no effect on results).
+#if defined(__GNUC__)
+#define DEM_PREFETCH_FOR_WRITE(address) __builtin_prefetch((address), 1)
+#else
+#define DEM_PREFETCH_FOR_WRITE(address) ((void)(address))
+#endif
+
 namespace dem {
 
 /// A 3-vector as three plain doubles. No default member values (a store the vectoriser would

@@ -251,6 +251,13 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
       b.radius_1[count] = radius[i], b.radius_2[count] = radius[j];
       count += separated ? 0 : 1;
       if (separated & (touching[k] != 0)) end_contact<State>(c, k, records);
+      // The block reads this contact's history and writes its results after the whole stretch
+      // is found: ask for those lines now, so that they arrive meanwhile.
+      const std::byte* history = c.state.at(static_cast<std::size_t>(k));
+      DEM_PREFETCH_FOR_WRITE(history);
+      DEM_PREFETCH_FOR_WRITE(history + sizeof(State) - 1);
+      DEM_PREFETCH_FOR_WRITE(&force[k]);
+      DEM_PREFETCH_FOR_WRITE(&normal_force[k]);
     }
     for (int m = 0; m < count; ++m) {
       const auto i = static_cast<std::size_t>(b.first[m]);
