@@ -39,22 +39,28 @@ void end_contact(PairContacts& c, std::int64_t k, bool records) {
   c.touching[static_cast<std::size_t>(k)] = 0;
 }
 
+/// sum += v and sum -= v, component by component (Eigen's arithmetic, the same bits). Plain doubles
+/// in: an Eigen vector built from a block's arrays goes through the stack, and reading it back
+/// as one 16-byte load waits for its separate 8-byte stores.
+DEM_HOT_INLINE void add_into(Vec3& sum, const Lane3& v) { sum.x() += v.x, sum.y() += v.y, sum.z() += v.z; }
+DEM_HOT_INLINE void subtract_from(Vec3& sum, const Lane3& v) { sum.x() -= v.x, sum.y() -= v.y, sum.z() -= v.z; }
+
 /// Adds contact k (force `f` on piece 2, torques on both pieces) into its particles' sums, in the
 /// caller's contact order. `Threaded`: a gathered particle is skipped and the torque record kept.
 template <bool Threaded>
 DEM_HOT_INLINE void add_to_particles(const KernelContext& ctx, PairContacts& c, std::int64_t k, std::size_t i, std::size_t j,
-                      const Vec3& f, const Vec3& torque_first, const Vec3& torque_second) {
+                      const Lane3& f, const Lane3& torque_first, const Lane3& torque_second) {
   const bool gather_first = Threaded && ctx.gathered[i] != 0;
   const bool gather_second = Threaded && ctx.gathered[j] != 0;
   if (!gather_first) {
-    ctx.scatter_force[i] -= f;
-    ctx.scatter_torque[i] += torque_first;
+    subtract_from(ctx.scatter_force[i], f);
+    add_into(ctx.scatter_torque[i], torque_first);
   }
   if (!gather_second) {
-    ctx.scatter_force[j] += f;
-    ctx.scatter_torque[j] += torque_second;
+    add_into(ctx.scatter_force[j], f);
+    add_into(ctx.scatter_torque[j], torque_second);
   }
-  if (gather_first || gather_second) c.torque_first[static_cast<std::size_t>(k)] = torque_first;
+  if (gather_first || gather_second) c.torque_first[static_cast<std::size_t>(k)] = to_vec3(torque_first);
 }
 
 /// The pair loop over the near candidates c.near[begin, end): one thread's share. `Threaded`: skip
@@ -98,7 +104,8 @@ void pair_range(const typename Law::Params& params, PairContacts& c, const Kerne
     c.normal_force[k] = out.normal_force;
     c.touching[static_cast<std::size_t>(k)] = (out.normal_force != 0.0) | !out.force.isZero(0.0);
     const Vec3 torque_first = -arm_first.cross(out.force) - out.moment;
-    add_to_particles<Threaded>(ctx, c, k, i, j, out.force, torque_first, second_torque(d, out.force, torque_first));
+    add_to_particles<Threaded>(ctx, c, k, i, j, lane(out.force), lane(torque_first),
+                               lane(second_torque(d, out.force, torque_first)));
     const double ratio = kin.overlap / std::min(p.radius[i], p.radius[j]);
     if (ratio > local.ratio) local = OverlapMonitor{ratio, k};
   }
@@ -275,11 +282,14 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
       const auto i = static_cast<std::size_t>(b.first[m]);
       const auto j = static_cast<std::size_t>(b.second[m]);
       b.store_history(m, c.state.at(static_cast<std::size_t>(k_m)));
-      force[k_m] = Vec3(b.fx[m], b.fy[m], b.fz[m]);
+      // Added into the particles from plain doubles, not read back from force[k_m]: a load that
+      // spans the three stores just made waits for them (no store forwarding).
+      const Lane3 f{b.fx[m], b.fy[m], b.fz[m]};
+      force[k_m].x() = f.x, force[k_m].y() = f.y, force[k_m].z() = f.z;
       normal_force[k_m] = b.normal_force[m];
-      touching[k_m] = (b.normal_force[m] != 0.0) | (b.fx[m] != 0.0) | (b.fy[m] != 0.0) | (b.fz[m] != 0.0);
-      add_to_particles<Threaded>(ctx, c, k_m, i, j, force[k_m], Vec3(b.t1x[m], b.t1y[m], b.t1z[m]),
-                                 Vec3(b.t2x[m], b.t2y[m], b.t2z[m]));
+      touching[k_m] = (b.normal_force[m] != 0.0) | (f.x != 0.0) | (f.y != 0.0) | (f.z != 0.0);
+      add_to_particles<Threaded>(ctx, c, k_m, i, j, f, Lane3{b.t1x[m], b.t1y[m], b.t1z[m]},
+                                 Lane3{b.t2x[m], b.t2y[m], b.t2z[m]});
       if (b.overlap_ratio[m] > local.ratio) local = OverlapMonitor{b.overlap_ratio[m], k_m};
     }
   }
