@@ -48,8 +48,9 @@ DEM_HOT_INLINE void subtract_from(Vec3& sum, const Lane3& v) { sum.x() -= v.x, s
 /// Adds contact k (force `f` on piece 2, torques on both pieces) into its particles' sums, in the
 /// caller's contact order. `Threaded`: a gathered particle is skipped and the torque record kept.
 template <bool Threaded>
-DEM_HOT_INLINE void add_to_particles(const KernelContext& ctx, PairContacts& c, std::int64_t k, std::size_t i, std::size_t j,
-                      const Lane3& f, const Lane3& torque_first, const Lane3& torque_second) {
+DEM_HOT_INLINE void add_to_particles(const KernelContext& ctx, PairContacts& c, std::int64_t k, std::size_t i,
+                                     std::size_t j, const Lane3& f, const Lane3& torque_first,
+                                     const Lane3& torque_second) {
   const bool gather_first = Threaded && ctx.gathered[i] != 0;
   const bool gather_second = Threaded && ctx.gathered[j] != 0;
   if (!gather_first) {
@@ -221,8 +222,8 @@ DEM_BLOCK_TARGET void compute_block(const typename Law::Params& params, PairBloc
   block_lanes<Law>(params, b, count, dt, kind);
 }
 
-/// pair_range for a lane law: the same near candidates, block by block. Sums into particles happen in
-/// contact order, as in pair_range, so both give the same bits.
+/// pair_range for a lane law: the same near candidates, block by block. Sums into particles happen
+/// in contact order, as in pair_range, so both give the same bits.
 template <LaneContactLaw Law, bool Threaded>
 void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const KernelContext& ctx,
                       std::int64_t begin, std::int64_t end, bool records, OverlapMonitor& local) {
@@ -242,8 +243,8 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
   PairBlock<State> b;
   for (std::int64_t a = begin; a < end;) {
     // The touching candidates of the next stretch, in order, without a branch on which ones
-    // touch (half of them do: unpredictable): every candidate is written to the next slot, which
-    // only a touching one keeps. A separated candidate that touched last step ends its history
+    // touch (three in four near candidates do, in no predictable pattern): every candidate is
+    // written to the next slot, which only a touching one keeps. A separated candidate that touched last step ends its history
     // (the rare case, so its branch predicts well).
     int count = 0;
     for (; a < end && count < pair_block; ++a) {
