@@ -39,8 +39,7 @@ void World::integrate() {
   double travel_sq = max_travel_sq_, near_travel_sq = max_near_travel_sq_;
   std::int64_t bad = std::numeric_limits<std::int64_t>::max();
   const double step_ratio_sq = settings_.max_step_travel_ratio * settings_.max_step_travel_ratio;
-  if (x_at_near_.size() != p.size()) near_stale_ = true;  // particles changed by hand since
-  const Vec3* x_at_near = near_stale_ ? p.x.data() : x_at_near_.data();
+  const Vec3* x_at_near = x_at_near_.data();  // step() refreshed the near lists before the forces
 
 #pragma omp parallel for schedule(static) num_threads(threads_for(n, threads_)) \
     reduction(max : travel_sq, near_travel_sq) reduction(min : bad)

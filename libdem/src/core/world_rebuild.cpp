@@ -203,7 +203,6 @@ void World::refresh_near() {
   const ParticleStore& p = particles_;
   near_skin_ = settings_.near_skin > 0.0 ? settings_.near_skin : 0.2 * skin_;
   for (PairContacts* c : {&ball_ball_, &ball_pebble_}) {
-    if (c->touching.size() != c->size()) mark_touching(*c);
     // A candidate left out is more than near_skin apart now, so it cannot touch before some
     // particle has moved half of that, when the list is made again. One that touched in the
     // last step stays in, so that the loop ends its history as usual.
