@@ -7,6 +7,13 @@
 // So a law that wants the fast loop writes its force in terms of Lane3 (LinearLaw and
 // RollingLinearLaw do), and keeps its history (State) in Lane3 members.
 //
+// A law may offer versions of force_lanes for special parameters ("lane variants"): it declares
+// `static constexpr int lane_variants = N`, `static int lane_variant(const Params&)` (in [0, N)),
+// and `template <int Variant = N - 1> static LaneForce force_lanes(...)`, where the last variant is
+// right for any parameters. The engine asks once per loop and runs the loop compiled for that
+// variant: a term that is zero for every contact of a type then costs nothing per contact, with
+// no branch in the vectorised loop. Each variant must give the bits of the general one.
+//
 // Every operation is evaluated in the order Eigen uses for Vector3d (products per component, sums
 // left to right, (x + y) + z; cross as Eigen's generic cross), so a formula gives the same bits
 // written with Lane3 or with Vec3.

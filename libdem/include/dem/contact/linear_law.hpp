@@ -19,6 +19,12 @@
 
 namespace dem {
 
+/// The dashpot terms a set of linear-law parameters uses. The vectorised contact loop is compiled
+/// once for each (lanes.hpp: lane variants), so that terms that are zero for every contact of a
+/// type cost nothing: the critical-ratio dashpots take two square roots per contact, and the
+/// effective mass a division.
+enum class Dashpots { none = 0, rate = 1, any = 2 };
+
 /// Contact stiffness and friction parameters shared by the linear family of laws.
 struct LinearParams {
   double effective_modulus = 0.0;  // Pa, E*; if 0 the constant stiffnesses below are used
@@ -63,6 +69,12 @@ struct LinearParams {
     require_non_negative(where + ".shear_damping_ratio", shear_damping_ratio);
     require_non_negative(where + ".normal_damping_rate", normal_damping_rate);
     require_non_negative(where + ".shear_damping_rate", shear_damping_rate);
+  }
+
+  Dashpots dashpots() const {
+    if (normal_damping_ratio != 0.0 || shear_damping_ratio != 0.0) return Dashpots::any;
+    if (normal_damping_rate != 0.0 || shear_damping_rate != 0.0) return Dashpots::rate;
+    return Dashpots::none;
   }
 
   /// kn and ks of one contact (docs/model.md 1.3).
@@ -115,7 +127,9 @@ DEM_HOT_INLINE Lane3 cap_length(const Lane3& v, double limit) {
 }
 
 /// The linear normal and shear part shared by LinearLaw and RollingLinearLaw: fills `out.force`,
-/// `out.normal_force` (elastic, compression positive) and `out.normal_stiffness`.
+/// `out.normal_force` (elastic, compression positive) and `out.normal_stiffness`. `Terms`: the
+/// dashpot terms computed (p.dashpots() or more); a term left out is zero for these parameters.
+template <Dashpots Terms>
 DEM_HOT_INLINE void linear_force(const LinearParams& p, const ContactStiffness& s, const LaneKinematics& k,
                                  Lane3& shear_force, LaneForce& out) {
   const Lane3& n = k.normal;
@@ -128,11 +142,17 @@ DEM_HOT_INLINE void linear_force(const LinearParams& p, const ContactStiffness& 
   shear_force = shear_force - (s.shear * k.dt) * shear_velocity;  // force on piece 2 opposes its sliding
   shear_force = cap_length(shear_force, p.friction * elastic_normal);
 
-  // Both dashpot forms always computed (no branch in the vectorised loop); a zero ratio adds 0.
-  const double c_n = p.normal_damping_rate * k.effective_mass +
-                     2.0 * p.normal_damping_ratio * std::sqrt(k.effective_mass * s.normal);
-  const double c_s = p.shear_damping_rate * k.effective_mass +
-                     2.0 * p.shear_damping_ratio * std::sqrt(k.effective_mass * s.shear);
+  // Both dashpot forms computed when present (no branch in the vectorised loop); a zero ratio or
+  // rate adds 0, so each version gives the bits of the full formula.
+  double c_n = 0.0, c_s = 0.0;
+  if constexpr (Terms != Dashpots::none) {
+    c_n = p.normal_damping_rate * k.effective_mass;
+    c_s = p.shear_damping_rate * k.effective_mass;
+  }
+  if constexpr (Terms == Dashpots::any) {
+    c_n += 2.0 * p.normal_damping_ratio * std::sqrt(k.effective_mass * s.normal);
+    c_s += 2.0 * p.shear_damping_ratio * std::sqrt(k.effective_mass * s.shear);
+  }
 
   const double normal_total = elastic_normal - c_n * normal_speed;
   out.force = normal_total * n + shear_force - c_s * shear_velocity;
@@ -152,10 +172,17 @@ struct LinearLaw {
 
   static ContactStiffness stiffness(const Params& p, const ContactKinematics& k) { return p.stiffness(k); }
 
-  /// The force in plain doubles: what the engine's vectorised loop calls.
+  /// Lane variants (lanes.hpp): one per Dashpots value.
+  static constexpr int lane_variants = 3;
+  static int lane_variant(const Params& p) { return static_cast<int>(p.dashpots()); }
+
+  /// The force in plain doubles: what the engine's vectorised loop calls (with the parameters'
+  /// variant; the default, all terms, is right for any parameters).
+  template <int Variant = 2>
   DEM_HOT_INLINE static LaneForce force_lanes(const Params& p, const LaneKinematics& k, State& state) {
     LaneForce out;
-    detail::linear_force(p, p.stiffness(k.radius_1, k.radius_2, k.kind), k, state.shear_force, out);
+    detail::linear_force<static_cast<Dashpots>(Variant)>(p, p.stiffness(k.radius_1, k.radius_2, k.kind), k,
+                                                          state.shear_force, out);
     out.moment = Lane3{0.0, 0.0, 0.0};
     return out;
   }
@@ -209,11 +236,17 @@ struct RollingLinearLaw {
     return s;
   }
 
-  /// The force in plain doubles: what the engine's vectorised loop calls.
+  /// Lane variants (lanes.hpp): one per Dashpots value.
+  static constexpr int lane_variants = 3;
+  static int lane_variant(const Params& p) { return static_cast<int>(p.dashpots()); }
+
+  /// The force in plain doubles: what the engine's vectorised loop calls (with the parameters'
+  /// variant; the default, all terms, is right for any parameters).
+  template <int Variant = 2>
   DEM_HOT_INLINE static LaneForce force_lanes(const Params& p, const LaneKinematics& k, State& state) {
     LaneForce out;
     const ContactStiffness s = p.stiffness(k.radius_1, k.radius_2, k.kind);
-    detail::linear_force(p, s, k, state.shear_force, out);
+    detail::linear_force<static_cast<Dashpots>(Variant)>(p, s, k, state.shear_force, out);
 
     const Lane3& n = k.normal;
     const Lane3 bend_rate = k.relative_angular_velocity - dot(k.relative_angular_velocity, n) * n;

@@ -139,10 +139,11 @@ struct PairBlock {
   double w1x[pair_block], w1y[pair_block], w1z[pair_block], w2x[pair_block], w2y[pair_block], w2z[pair_block];
   double inv_mass_1[pair_block], inv_mass_2[pair_block];
   double state[state_doubles][pair_block];  // the law's history, double by double
-  // results: force on piece 2, torques on pieces 1 and 2, elastic normal force, overlap ratio
+  // results: force on piece 2, torques on pieces 1 and 2, elastic normal force, overlap ratio,
+  // and 1 where the contact still touches (non-zero normal force or force; PairContacts::touching)
   double fx[pair_block], fy[pair_block], fz[pair_block];
   double t1x[pair_block], t1y[pair_block], t1z[pair_block], t2x[pair_block], t2y[pair_block], t2z[pair_block];
-  double normal_force[pair_block], overlap_ratio[pair_block];
+  double normal_force[pair_block], overlap_ratio[pair_block], touching[pair_block];
 
   /// Copies a State's bytes (`history`) into entry m of `state`, and back.
   void load_history(int m, const std::byte* history) {
@@ -153,9 +154,23 @@ struct PairBlock {
   }
 };
 
+/// A lane law with versions of force_lanes for special parameters (lanes.hpp: lane variants).
+template <class L>
+concept VariantLaneLaw = LaneContactLaw<L> && requires(const typename L::Params& p) {
+  { L::lane_variants } -> std::convertible_to<int>;
+  { L::lane_variant(p) } -> std::convertible_to<int>;
+};
+
+/// The law's force in lanes, in version `Variant` (-1: a law without variants).
+template <class Law, int Variant>
+DEM_HOT_INLINE LaneForce lane_force(const typename Law::Params& p, const LaneKinematics& k, typename Law::State& s) {
+  if constexpr (Variant < 0) return Law::force_lanes(p, k, s);
+  else return Law::template force_lanes<Variant>(p, k, s);
+}
+
 /// Kinematics, law and torques of the `count` contacts of a block, each independent of the others
 /// (the same arithmetic as pair_range's, in the same order: same bits).
-template <LaneContactLaw Law>
+template <LaneContactLaw Law, int Variant>
 DEM_HOT_INLINE void block_lanes(const typename Law::Params& shared_params, PairBlock<typename Law::State>& b,
                                 int count, double dt, ContactKind kind) {
   // A local copy: the loop's history copies could otherwise alias the parameters for the
@@ -184,7 +199,7 @@ DEM_INDEPENDENT_ITERATIONS
     kin.kind = kind;
     typename Law::State state;
     b.store_history(m, reinterpret_cast<std::byte*>(&state));
-    const LaneForce out = Law::force_lanes(params, kin, state);
+    const LaneForce out = lane_force<Law, Variant>(params, kin, state);
     b.load_history(m, reinterpret_cast<const std::byte*>(&state));
     const Lane3 torque_first = -cross(arm_first, out.force) - out.moment;
     const Lane3 torque_second = -cross(d, out.force) - torque_first;  // as second_torque()
@@ -193,6 +208,9 @@ DEM_INDEPENDENT_ITERATIONS
     b.t2x[m] = torque_second.x, b.t2y[m] = torque_second.y, b.t2z[m] = torque_second.z;
     b.normal_force[m] = out.normal_force;
     b.overlap_ratio[m] = kin.overlap / std::min(r1, r2);
+    // here, four lanes at once, rather than four NaN-aware comparisons per contact afterwards
+    const bool touching = (out.normal_force != 0.0) | (out.force.x != 0.0) | (out.force.y != 0.0) | (out.force.z != 0.0);
+    b.touching[m] = touching ? 1.0 : 0.0;
   }
 }
 
@@ -216,10 +234,18 @@ inline bool lanes_worthwhile() { return false; }
 #define DEM_BLOCK_TARGET
 #endif
 
-template <LaneContactLaw Law>
+/// The block in the law's variant for these parameters: `variant` is tried against V, V + 1...
+template <LaneContactLaw Law, int V = 0>
 DEM_BLOCK_TARGET void compute_block(const typename Law::Params& params, PairBlock<typename Law::State>& b, int count,
-                                    double dt, ContactKind kind) {
-  block_lanes<Law>(params, b, count, dt, kind);
+                                    double dt, ContactKind kind, int variant) {
+  if constexpr (!VariantLaneLaw<Law>) {
+    block_lanes<Law, -1>(params, b, count, dt, kind);
+  } else if constexpr (V + 1 < Law::lane_variants) {
+    if (variant == V) block_lanes<Law, V>(params, b, count, dt, kind);
+    else compute_block<Law, V + 1>(params, b, count, dt, kind, variant);
+  } else {
+    block_lanes<Law, V>(params, b, count, dt, kind);
+  }
 }
 
 /// pair_range for a lane law: the same near candidates, block by block. Sums into particles happen
@@ -241,6 +267,8 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
   double* normal_force = c.normal_force.data();
   std::uint8_t* touching = c.touching.data();
   PairBlock<State> b;
+  int variant = -1;
+  if constexpr (VariantLaneLaw<Law>) variant = Law::lane_variant(params);
   for (std::int64_t a = begin; a < end;) {
     // The touching candidates of the next stretch, in order, without a branch on which ones
     // touch (three in four near candidates do, in no predictable pattern): every candidate is
@@ -277,7 +305,7 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
       b.inv_mass_1[m] = inv_mass[i], b.inv_mass_2[m] = inv_mass[j];
       b.load_history(m, c.state.at(static_cast<std::size_t>(b.contact[m])));
     }
-    compute_block<Law>(params, b, count, ctx.dt, c.kind);
+    compute_block<Law>(params, b, count, ctx.dt, c.kind, variant);
     for (int m = 0; m < count; ++m) {
       const std::int64_t k_m = b.contact[m];
       const auto i = static_cast<std::size_t>(b.first[m]);
@@ -288,7 +316,7 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
       const Lane3 f{b.fx[m], b.fy[m], b.fz[m]};
       force[k_m].x() = f.x, force[k_m].y() = f.y, force[k_m].z() = f.z;
       normal_force[k_m] = b.normal_force[m];
-      touching[k_m] = (b.normal_force[m] != 0.0) | (f.x != 0.0) | (f.y != 0.0) | (f.z != 0.0);
+      touching[k_m] = b.touching[m] != 0.0;
       add_to_particles<Threaded>(ctx, c, k_m, i, j, f, Lane3{b.t1x[m], b.t1y[m], b.t1z[m]},
                                  Lane3{b.t2x[m], b.t2y[m], b.t2z[m]});
       if (b.overlap_ratio[m] > local.ratio) local = OverlapMonitor{b.overlap_ratio[m], k_m};
