@@ -101,9 +101,28 @@ TEST_CASE("contacts: history survives neighbour-list rebuilds and particle re-so
   CHECK(ps.id != pu.id);  // the storage order really differs
 }
 
+namespace {
+
+/// A square plate of n x n cells (two triangles each) at height z, pushing along `normal`: a
+/// fine mesh, so that each ball near it tests several triangles.
+FacetWall tiled_plate(const char* name, double z, double size, int n, const Vec3& normal) {
+  geometry::TriangleMesh mesh;
+  const double cell = size / n;
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b) {
+      const Vec3 centre((a + 0.5) * cell, (b + 0.5) * cell, z);
+      const auto tile = geometry::make_rectangle(centre, Vec3(0.5 * cell, 0, 0), Vec3(0, 0.5 * cell, 0));
+      mesh = mesh.triangles.empty() ? tile : geometry::merge(mesh, tile);
+    }
+  return make_facet_wall(name, mesh, normal);
+}
+
+}  // namespace
+
 TEST_CASE("determinism: one and two threads give bit-identical trajectories", "[grid][determinism]") {
-  // A compressed lattice with random sizes and spins: thousands of contacts from the first step,
-  // enough pairs (> 4096) that the two-thread run takes the parallel paths.
+  // A compressed lattice with random sizes and spins between two finely tiled plates: thousands
+  // of contacts from the first step, enough pairs (> 4096) and triangle tests that the two-thread
+  // run takes the parallel paths.
   std::size_t contact_steps = 0;
   auto make = [&](int threads) {
     WorldSettings s;
@@ -118,8 +137,13 @@ TEST_CASE("determinism: one and two threads give bit-identical trajectories", "[
           b.angular_velocity = Vec3(u(rng), u(rng), u(rng)) * 50.0;
           world.add_ball(b);
         }
+    // the bottom and top layers' centres are 0.28 mm from the plates: every one of them touches
+    const double span = 15 * 0.62e-3;
+    world.add_wall(tiled_plate("bottom", -0.28e-3, span, 24, -Vec3::UnitZ()));
+    world.add_wall(tiled_plate("top", span + 0.28e-3, span, 24, Vec3::UnitZ()));
     auto p = RollingLinearLaw::Params::deformable(modulus_ball, 1.0, 0.5, 0.2);
     world.set_contact_model(ContactKind::BallBall, make_contact_model<RollingLinearLaw>(p, "ball-ball"));
+    world.set_contact_model(ContactKind::BallFacet, make_contact_model<RollingLinearLaw>(p, "ball-facet"));
     world.add_callback(1, [&](World& w) { contact_steps += w.contact_count(ContactKind::BallBall); });
     world.step(300);
     return world;
@@ -127,6 +151,11 @@ TEST_CASE("determinism: one and two threads give bit-identical trajectories", "[
   const World one = make(1), two = make(2);
   REQUIRE(two.threads() == 2);
   REQUIRE(two.pair_contacts(ContactKind::BallBall).size() > 4096);
+  // compute_walls goes parallel above 1,024 triangle tests (4 pair candidates each)
+  REQUIRE(two.wall_contacts().triangles.size() > 1024);
+  CHECK(two.wall(0).contact_count > 200);
+  CHECK(one.wall(0).force == two.wall(0).force);
+  CHECK(one.wall(1).force == two.wall(1).force);
   CHECK(contact_steps > 2 * 300 * 1000);  // on average > 1000 touching contacts per step
   CHECK(one.particles().x == two.particles().x);
   CHECK(one.particles().w == two.particles().w);
