@@ -71,6 +71,7 @@ struct LinearParams {
     require_non_negative(where + ".shear_damping_rate", shear_damping_rate);
   }
 
+  /// The dashpot terms these parameters make non-zero (selects the vectorised loop's variant).
   Dashpots dashpots() const {
     if (normal_damping_ratio != 0.0 || shear_damping_ratio != 0.0) return Dashpots::any;
     if (normal_damping_rate != 0.0 || shear_damping_rate != 0.0) return Dashpots::rate;
@@ -143,7 +144,7 @@ DEM_HOT_INLINE void linear_force(const LinearParams& p, const ContactStiffness& 
   shear_force = cap_length(shear_force, p.friction * elastic_normal);
 
   // Both dashpot forms computed when present (no branch in the vectorised loop); a zero ratio or
-  // rate adds 0, so each version gives the bits of the full formula.
+  // rate adds 0, so each version gives the bits of the full formula (for a finite effective mass).
   double c_n = 0.0, c_s = 0.0;
   if constexpr (Terms != Dashpots::none) {
     c_n = p.normal_damping_rate * k.effective_mass;
