@@ -112,7 +112,7 @@ FacetWall tiled_plate(const char* name, double z, double size, int n, const Vec3
     for (int b = 0; b < n; ++b) {
       const Vec3 centre((a + 0.5) * cell, (b + 0.5) * cell, z);
       const auto tile = geometry::make_rectangle(centre, Vec3(0.5 * cell, 0, 0), Vec3(0, 0.5 * cell, 0));
-      mesh = mesh.triangles.empty() ? tile : geometry::merge(mesh, tile);
+      mesh = geometry::merge(mesh, tile);
     }
   return make_facet_wall(name, mesh, normal);
 }
@@ -150,9 +150,9 @@ TEST_CASE("determinism: one and two threads give bit-identical trajectories", "[
   };
   const World one = make(1), two = make(2);
   REQUIRE(two.threads() == 2);
-  REQUIRE(two.pair_contacts(ContactKind::BallBall).size() > 4096);
-  // compute_walls goes parallel above 1,024 triangle tests (4 pair candidates each)
-  REQUIRE(two.wall_contacts().triangles.size() > 1024);
+  REQUIRE(static_cast<std::int64_t>(two.pair_contacts(ContactKind::BallBall).size()) > min_parallel_items);
+  const auto triangle_tests = static_cast<std::int64_t>(two.wall_contacts().triangles.size());
+  REQUIRE(detail::triangle_test_weight * triangle_tests > min_parallel_items);  // compute_walls on two threads
   CHECK(two.wall(0).contact_count > 200);
   CHECK(one.wall(0).force == two.wall(0).force);
   CHECK(one.wall(1).force == two.wall(1).force);

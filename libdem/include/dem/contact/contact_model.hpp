@@ -38,7 +38,8 @@ concept ContactLaw = requires(const typename L::Params& p, const ContactKinemati
 
 /// Threads worth using for a loop of `count` items: small loops run serially, since starting a
 /// parallel region costs more than it saves (and oversubscribed cores make it far worse).
-inline int threads_for(std::int64_t count, int threads) { return count >= 4096 ? threads : 1; }
+inline constexpr std::int64_t min_parallel_items = 4096;
+inline int threads_for(std::int64_t count, int threads) { return count >= min_parallel_items ? threads : 1; }
 
 /// Everything a contact kernel needs besides the contacts themselves.
 struct KernelContext {

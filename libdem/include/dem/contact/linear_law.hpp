@@ -179,7 +179,7 @@ struct LinearLaw {
 
   /// The force in plain doubles: what the engine's vectorised loop calls (with the parameters'
   /// variant; the default, all terms, is right for any parameters).
-  template <int Variant = 2>
+  template <int Variant = static_cast<int>(Dashpots::any)>
   DEM_HOT_INLINE static LaneForce force_lanes(const Params& p, const LaneKinematics& k, State& state) {
     LaneForce out;
     detail::linear_force<static_cast<Dashpots>(Variant)>(p, p.stiffness(k.radius_1, k.radius_2, k.kind), k,
@@ -243,7 +243,7 @@ struct RollingLinearLaw {
 
   /// The force in plain doubles: what the engine's vectorised loop calls (with the parameters'
   /// variant; the default, all terms, is right for any parameters).
-  template <int Variant = 2>
+  template <int Variant = static_cast<int>(Dashpots::any)>
   DEM_HOT_INLINE static LaneForce force_lanes(const Params& p, const LaneKinematics& k, State& state) {
     LaneForce out;
     const ContactStiffness s = p.stiffness(k.radius_1, k.radius_2, k.kind);

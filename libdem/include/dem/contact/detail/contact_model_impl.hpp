@@ -248,6 +248,10 @@ DEM_BLOCK_TARGET void compute_block(const typename Law::Params& params, PairBloc
   }
 }
 
+/// A ball-facet candidate's closest-point search on one triangle costs about this many pair
+/// candidates: compute_walls weighs its triangle tests by it when choosing threads.
+inline constexpr std::int64_t triangle_test_weight = 4;
+
 /// pair_range for a lane law: the same near candidates, block by block. Sums into particles happen
 /// in contact order, as in pair_range, so both give the same bits.
 template <LaneContactLaw Law, bool Threaded>
@@ -272,8 +276,8 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
   for (std::int64_t a = begin; a < end;) {
     // The touching candidates of the next stretch, in order, without a branch on which ones
     // touch (three in four near candidates do, in no predictable pattern): every candidate is
-    // written to the next slot, which only a touching one keeps. A separated candidate that touched last step ends its history
-    // (the rare case, so its branch predicts well).
+    // written to the next slot, which only a touching one keeps. A separated candidate that
+    // touched last step ends its history (the rare case, so its branch predicts well).
     int count = 0;
     for (; a < end && count < pair_block; ++a) {
       const std::int64_t k = near[a];
@@ -385,12 +389,12 @@ void compute_walls(const typename Law::Params& params, WallContacts& c, const Ke
   c.normal_force.resize(c.size());
   c.normal_stiffness.resize(c.size());
   // Worth threads by the triangles tested, not the contacts: a ball near a curved wall tests
-  // several, each a closest-point search that costs about four pair candidates. (The 14k
+  // several, each a closest-point search (triangle_test_weight). (The 14k
   // benchmark cylinder has 3,400 candidates and 9,500 triangle tests; counted by candidates they
   // ran on one thread, a fifth of a two-thread step.) Each contact writes only its own records:
   // the same results for any thread count.
   const auto triangle_tests = static_cast<std::int64_t>(c.triangles.size());
-#pragma omp parallel num_threads(threads_for(4 * triangle_tests, ctx.threads))
+#pragma omp parallel num_threads(threads_for(triangle_test_weight * triangle_tests, ctx.threads))
   {
     OverlapMonitor local;
 #pragma omp for schedule(static)
