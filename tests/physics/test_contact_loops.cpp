@@ -5,6 +5,7 @@
 // once with the same law hidden behind a per-contact-only wrapper, and every particle must end
 // bit for bit where the other run left it. The blocks run the law's variant for the parameters'
 // dashpots (none, rate, any); the wrapper always takes the general formula: one section each.
+// The blocks run on every instruction set the processor has (AVX2, AVX-512), each compared.
 #include <catch2/catch.hpp>
 
 #include "support/scenes.hpp"
@@ -81,37 +82,57 @@ ContactCensus census(const World& world, const RollingLinearLaw::Params& params)
   return out;
 }
 
+/// The pair loops' instruction set for one scope (detail::use_block_isa), then the best again.
+struct BlockIsaScope {
+  explicit BlockIsaScope(detail::BlockIsa isa) { detail::use_block_isa(isa); }
+  ~BlockIsaScope() { detail::use_block_isa(detail::detected_block_isa()); }
+  BlockIsaScope(const BlockIsaScope&) = delete;
+  BlockIsaScope& operator=(const BlockIsaScope&) = delete;
+};
+
+/// The pile with blocks on each SIMD instruction set this processor has, against one contact at
+/// a time. Returns the run on the best one.
+World require_same_bits_on_every_isa(const RollingLinearLaw::Params& params) {
+  const World single = pile<RollingOneAtATime>(params);
+  const detail::BlockIsa best = detail::detected_block_isa();
+  if (best == detail::BlockIsa::scalar)
+    WARN("this processor takes one contact at a time for every law: both runs use the same loop");
+  for (const detail::BlockIsa isa : {detail::BlockIsa::avx2, detail::BlockIsa::avx512}) {
+    if (isa > best) continue;
+    const BlockIsaScope scope(isa);
+    INFO("blocks on instruction set " << static_cast<int>(isa) << " (1: AVX2, 2: AVX-512)");
+    REQUIRE(detail::block_isa() == isa);
+    require_same_bits(pile<RollingLinearLaw>(params), single);
+  }
+  return pile<RollingLinearLaw>(params);
+}
+
 }  // namespace
 
 TEST_CASE("contact loops: blocks in SIMD lanes and one contact at a time give the same bits",
           "[physics][contact]") {
-  if (!detail::lanes_worthwhile())
-    WARN("this processor takes one contact at a time for every law: both runs use the same loop");
-
   SECTION("stiffness from E*, critical-damping ratios") {
     auto params = RollingLinearLaw::Params::deformable(modulus_ball, 1.5, 0.3, 0.1);
     params.normal_damping_ratio = 0.2;
     params.shear_damping_ratio = 0.1;
-    const World blocks = pile<RollingLinearLaw>(params);
-    const World single = pile<RollingOneAtATime>(params);
+    const World blocks = require_same_bits_on_every_isa(params);
     // the scene exercises every branch of the law (the lanes compute them as selects)
     const ContactCensus seen = census(blocks, params);
     INFO("touching " << seen.touching << ", sliding " << seen.sliding << ", rolling capped " << seen.rolling_capped);
     REQUIRE(seen.touching > 200);
     REQUIRE(seen.sliding > 0);
     REQUIRE(seen.rolling_capped > 0);
-    require_same_bits(blocks, single);
   }
   SECTION("stiffness from E*, no dashpots (the study's models)") {
     const auto params = RollingLinearLaw::Params::deformable(modulus_ball, 1.5, 0.3, 0.1);
     REQUIRE(RollingLinearLaw::lane_variant(params) == static_cast<int>(Dashpots::none));
-    require_same_bits(pile<RollingLinearLaw>(params), pile<RollingOneAtATime>(params));
+    require_same_bits_on_every_isa(params);
   }
   SECTION("constant stiffness, mass-proportional dashpots (the peers' benchmark law)") {
     auto params = RollingLinearLaw::Params::constant(2e4, 2e4, 0.5, 0.17);
     params.normal_damping_rate = 1e4;
     params.shear_damping_rate = 5e3;
-    require_same_bits(pile<RollingLinearLaw>(params), pile<RollingOneAtATime>(params));
+    require_same_bits_on_every_isa(params);
   }
 }
 

@@ -97,7 +97,8 @@ struct LinearParams {
     const double modulus_normal = pi * rbar * rbar * effective_modulus / length;
     ContactStiffness s;
     s.normal = from_modulus * modulus_normal + from_constant * normal_stiffness;
-    s.shear = from_modulus * (modulus_normal / ratio) + from_constant * shear_stiffness;
+    // times the reciprocal: the same for every contact, so a loop computes it once
+    s.shear = from_modulus * (modulus_normal * (1.0 / ratio)) + from_constant * shear_stiffness;
     return s;
   }
 };
