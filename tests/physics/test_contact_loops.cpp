@@ -85,7 +85,7 @@ ContactCensus census(const World& world, const RollingLinearLaw::Params& params)
 /// The pair loops' instruction set for one scope (detail::use_block_isa), then the best again.
 struct BlockIsaScope {
   explicit BlockIsaScope(detail::BlockIsa isa) { detail::use_block_isa(isa); }
-  ~BlockIsaScope() { detail::use_block_isa(detail::detected_block_isa()); }
+  ~BlockIsaScope() { detail::block_isa_override().store(-1); }
   BlockIsaScope(const BlockIsaScope&) = delete;
   BlockIsaScope& operator=(const BlockIsaScope&) = delete;
 };

@@ -141,8 +141,9 @@ struct PairBlock {
   double inv_mass_1[pair_block], inv_mass_2[pair_block];
   double state[state_doubles][pair_block];  // the law's history, double by double
   // results: force on piece 2, torques on pieces 1 and 2, elastic normal force, overlap and the
-  // smaller radius (the overlap ratio is divided out in the scalar loop: the block is bound by the divider),
-  // and 1 where the contact still touches (non-zero normal force or force; PairContacts::touching)
+  // smaller radius (the scalar loop divides them into the overlap ratio: a division is among the
+  // block's slowest instructions), and 1 where the contact still touches (non-zero normal force or
+  // force; PairContacts::touching)
   double fx[pair_block], fy[pair_block], fz[pair_block];
   double t1x[pair_block], t1y[pair_block], t1z[pair_block], t2x[pair_block], t2y[pair_block], t2z[pair_block];
   double normal_force[pair_block], overlap[pair_block], smaller_radius[pair_block], touching[pair_block];
@@ -185,7 +186,7 @@ DEM_INDEPENDENT_ITERATIONS
     const double reach = r1 + r2;
     const double dist = std::sqrt(squared_norm(d));
     LaneKinematics kin;
-    // One division and three products: the block is bound by the divider (four lanes share it).
+    // One division and three products: divisions are among the block's slowest instructions.
     kin.normal = (1.0 / dist) * d;
     kin.overlap = reach - dist;
     const Lane3 arm_first = (r1 - 0.5 * kin.overlap) * kin.normal;  // x_c - x_1
