@@ -140,13 +140,13 @@ struct PairBlock {
   double w1x[pair_block], w1y[pair_block], w1z[pair_block], w2x[pair_block], w2y[pair_block], w2z[pair_block];
   double inv_mass_1[pair_block], inv_mass_2[pair_block];
   double state[state_doubles][pair_block];  // the law's history, double by double
-  // results: force on piece 2, torques on pieces 1 and 2, elastic normal force, overlap and the
-  // smaller radius (the scalar loop divides them into the overlap ratio: a division is among the
+  // results: force on piece 2, torques on pieces 1 and 2, elastic normal force, overlap (the
+  // scalar loop divides it by the smaller radius into the overlap ratio: a division is among the
   // block's slowest instructions), and 1 where the contact still touches (non-zero normal force or
   // force; PairContacts::touching)
   double fx[pair_block], fy[pair_block], fz[pair_block];
   double t1x[pair_block], t1y[pair_block], t1z[pair_block], t2x[pair_block], t2y[pair_block], t2z[pair_block];
-  double normal_force[pair_block], overlap[pair_block], smaller_radius[pair_block], touching[pair_block];
+  double normal_force[pair_block], overlap[pair_block], touching[pair_block];
 
   /// Copies a State's bytes (`history`) into entry m of `state`, and back.
   void load_history(int m, const std::byte* history) {
@@ -212,7 +212,6 @@ DEM_INDEPENDENT_ITERATIONS
     b.t2x[m] = torque_second.x, b.t2y[m] = torque_second.y, b.t2z[m] = torque_second.z;
     b.normal_force[m] = out.normal_force;
     b.overlap[m] = kin.overlap;
-    b.smaller_radius[m] = std::min(r1, r2);
     // here, four lanes at once, rather than four NaN-aware comparisons per contact afterwards
     const bool touching = (out.normal_force != 0.0) | (out.force.x != 0.0) | (out.force.y != 0.0) | (out.force.z != 0.0);
     b.touching[m] = touching ? 1.0 : 0.0;
@@ -378,7 +377,7 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
       add_to_particles<Threaded>(ctx, c, k_m, i, j, f, Lane3{b.t1x[m], b.t1y[m], b.t1z[m]},
                                  Lane3{b.t2x[m], b.t2y[m], b.t2z[m]});
       // The overlap ratio's division here, in the scalar loop, leaves the block's divider to the law.
-      const double ratio = b.overlap[m] / b.smaller_radius[m];
+      const double ratio = b.overlap[m] / std::min(b.radius_1[m], b.radius_2[m]);
       if (ratio > local.ratio) local = OverlapMonitor{ratio, k_m};
     }
   }
