@@ -34,6 +34,25 @@ TEST_CASE("broad phase: cell-grid pairs equal brute-force pairs for random polyd
       CHECK(found.size() == first.size());  // no duplicates
       CHECK(found == brute);
       CHECK(std::is_sorted(first.begin(), first.end()));
+
+      // The same points re-sorted by cells, as the engine stores them: the search then skips the
+      // earlier cells whole. The pairs must be the same ones, renumbered.
+      const std::vector<std::int32_t> order = grid.cell_order();
+      std::vector<Vec3> sorted_x;
+      std::vector<double> sorted_r;
+      for (const std::int32_t i : order) {
+        sorted_x.push_back(x[static_cast<std::size_t>(i)]);
+        sorted_r.push_back(r[static_cast<std::size_t>(i)]);
+      }
+      find_pairs(sorted_x, sorted_r, skin, threads, grid, first, second);
+      std::set<std::pair<int, int>> renumbered;
+      for (std::size_t k = 0; k < first.size(); ++k) {
+        CHECK(first[k] < second[k]);
+        const int a = order[static_cast<std::size_t>(first[k])], b = order[static_cast<std::size_t>(second[k])];
+        renumbered.emplace(std::min(a, b), std::max(a, b));
+      }
+      CHECK(renumbered.size() == first.size());
+      CHECK(renumbered == brute);
     }
   }
 }

@@ -20,17 +20,63 @@ Key pair_key(ParticleId a, ParticleId b) {
   return (static_cast<Key>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
 }
 
-/// Sorted (key, old index) of the contacts touching in the last step.
-std::vector<std::pair<Key, std::int64_t>> touching_keys(const PairContacts& c, const ParticleStore& p) {
-  std::vector<std::pair<Key, std::int64_t>> keys;
-  for (std::size_t k = 0; k < c.normal_force.size() && k < c.size(); ++k)
-    if (c.normal_force[k] > 0.0)
-      keys.emplace_back(pair_key(p.id[static_cast<std::size_t>(c.first[k])], p.id[static_cast<std::size_t>(c.second[k])]),
-                        static_cast<std::int64_t>(k));
-  std::sort(keys.begin(), keys.end());
-  return keys;
-}
+/// The contacts touching in the last step, found again by their particles after a re-sort: each
+/// is filed under the lower of its two storage indices, with the other one. The pair search emits
+/// its candidates in order of that lower index, so the lookups walk these lists front to back
+/// (a binary search over all contacts' keys missed the cache at every level; a third of a rebuild).
+class TouchingPairs {
+ public:
+  /// Notes the touching contacts of `c` by their particles' stable ids (before a re-sort).
+  TouchingPairs(const PairContacts& c, const ParticleStore& p) {
+    for (std::size_t k = 0; k < c.normal_force.size() && k < c.size(); ++k)
+      if (c.normal_force[k] > 0.0) {
+        id_first_.push_back(p.id[static_cast<std::size_t>(c.first[k])]);
+        id_second_.push_back(p.id[static_cast<std::size_t>(c.second[k])]);
+        contact_.push_back(static_cast<std::int64_t>(k));
+      }
+  }
 
+  /// Files them by the particles' storage indices now (after any re-sort).
+  void index(const ParticleStore& p) {
+    const std::size_t n = contact_.size();
+    std::vector<std::int32_t> lower(n), upper(n);
+    offsets_.assign(p.size() + 1, 0);
+    for (std::size_t m = 0; m < n; ++m) {
+      const auto a = static_cast<std::int32_t>(p.index_of(id_first_[m]));
+      const auto b = static_cast<std::int32_t>(p.index_of(id_second_[m]));
+      lower[m] = std::min(a, b);
+      upper[m] = std::max(a, b);
+      ++offsets_[static_cast<std::size_t>(lower[m]) + 1];
+    }
+    for (std::size_t i = 0; i < p.size(); ++i) offsets_[i + 1] += offsets_[i];
+    upper_.resize(n);
+    contact_by_lower_.resize(n);
+    std::vector<std::int32_t> fill(offsets_.begin(), offsets_.end() - 1);
+    for (std::size_t m = 0; m < n; ++m) {
+      const auto slot = static_cast<std::size_t>(fill[static_cast<std::size_t>(lower[m])]++);
+      upper_[slot] = upper[m];
+      contact_by_lower_[slot] = contact_[m];
+    }
+    std::vector<ParticleId>().swap(id_first_);
+    std::vector<ParticleId>().swap(id_second_);
+    std::vector<std::int64_t>().swap(contact_);
+  }
+
+  /// The old index of the contact between storage indices i < j, or -1.
+  std::int64_t find(std::int32_t i, std::int32_t j) const {
+    for (auto s = offsets_[static_cast<std::size_t>(i)]; s < offsets_[static_cast<std::size_t>(i) + 1]; ++s)
+      if (upper_[static_cast<std::size_t>(s)] == j) return contact_by_lower_[static_cast<std::size_t>(s)];
+    return -1;
+  }
+
+ private:
+  std::vector<ParticleId> id_first_, id_second_;
+  std::vector<std::int64_t> contact_;
+  std::vector<std::int32_t> offsets_, upper_;  // per lower index: the upper indices
+  std::vector<std::int64_t> contact_by_lower_;  // and the old contact indices
+};
+
+/// The old index of `key` among the sorted (key, old index) pairs of the ball-facet contacts, or -1.
 std::int64_t lookup(const std::vector<std::pair<Key, std::int64_t>>& keys, Key key) {
   const auto it = std::lower_bound(keys.begin(), keys.end(), std::make_pair(key, std::int64_t{-1}));
   return (it != keys.end() && it->first == key) ? it->second : -1;
@@ -78,8 +124,7 @@ void World::rebuild(bool resort) {
   skin_ = skin;
 
   // History of the last step, keyed by stable ids (storage indices change when re-sorting).
-  const auto old_bb_keys = touching_keys(ball_ball_, p);
-  const auto old_bp_keys = touching_keys(ball_pebble_, p);
+  TouchingPairs old_bb(ball_ball_, p), old_bp(ball_pebble_, p);
   std::vector<std::pair<Key, std::int64_t>> old_wall_keys;
   for (std::size_t k = 0; k < wall_contacts_.size() && k < wall_contacts_.normal_force.size(); ++k)
     if (wall_contacts_.normal_force[k] > 0.0)
@@ -93,6 +138,8 @@ void World::rebuild(bool resort) {
     grid_.build(p.x, 2.0 * max_radius + skin);
     p.permute(grid_.cell_order());
   }
+  old_bb.index(p);
+  old_bp.index(p);
 
   // Candidate pairs, split by contact type; piece 1 is always a ball.
   std::vector<std::int32_t> first, second;
@@ -102,15 +149,15 @@ void World::rebuild(bool resort) {
   bp.kind = ContactKind::BallPebble;
   std::vector<std::int64_t> bb_source, bp_source;
   for (std::size_t k = 0; k < first.size(); ++k) {
-    std::int32_t a = first[k], b = second[k];
+    std::int32_t a = first[k], b = second[k];  // a < b, in order of a
     const bool a_pebble = p.is_pebble(static_cast<std::size_t>(a));
     const bool b_pebble = p.is_pebble(static_cast<std::size_t>(b));
     if (!a_pebble && !b_pebble) {
       // Orient by stable id, so that re-sorting never flips a contact (its history is directional).
       if (p.id[static_cast<std::size_t>(a)] > p.id[static_cast<std::size_t>(b)]) std::swap(a, b);
+      bb_source.push_back(old_bb.find(first[k], second[k]));
       bb.first.push_back(a);
       bb.second.push_back(b);
-      bb_source.push_back(lookup(old_bb_keys, pair_key(p.id[static_cast<std::size_t>(a)], p.id[static_cast<std::size_t>(b)])));
       continue;
     }
     if (a_pebble && b_pebble) {
@@ -120,9 +167,9 @@ void World::rebuild(bool resort) {
     } else if (a_pebble) {
       std::swap(a, b);
     }
+    bp_source.push_back(old_bp.find(first[k], second[k]));
     bp.first.push_back(a);
     bp.second.push_back(b);
-    bp_source.push_back(lookup(old_bp_keys, pair_key(p.id[static_cast<std::size_t>(a)], p.id[static_cast<std::size_t>(b)])));
   }
   std::vector<std::int32_t>().swap(first);  // split: free them before the histories are copied
   std::vector<std::int32_t>().swap(second);

@@ -83,9 +83,15 @@ void find_pairs(const std::vector<Vec3>& x, const std::vector<double>& radius, d
             const int ix = c[0] + dx;
             if (ix < 0 || ix >= dims[0]) continue;
             const std::int64_t cell = grid.linear(ix, iy, iz);
-            for (const std::int32_t* it = grid.begin(cell); it != grid.end(cell); ++it) {
+            // A cell lists its points in ascending order: skip those up to i (each pair once).
+            // After a re-sort by cells, every point of an earlier cell comes before i: the
+            // whole cell goes with one comparison.
+            const std::int32_t* it = grid.begin(cell);
+            const std::int32_t* const last = grid.end(cell);
+            if (it == last || last[-1] <= i) continue;
+            while (*it <= i) ++it;
+            for (; it != last; ++it) {
               const std::int32_t j = *it;
-              if (j <= i) continue;
               const double reach = ri + radius[static_cast<std::size_t>(j)];
               if ((x[static_cast<std::size_t>(j)] - xi).squaredNorm() < reach * reach) {
                 out_first.push_back(static_cast<std::int32_t>(i));
