@@ -68,40 +68,50 @@ void find_pairs(const std::vector<Vec3>& x, const std::vector<double>& radius, d
     const auto me = static_cast<std::size_t>(omp_get_thread_num());
     auto& out_first = local_first[me];
     auto& out_second = local_second[me];
+    std::size_t found = 0;
 #pragma omp for schedule(static)
     for (std::int64_t i = 0; i < n; ++i) {
       const Vec3 xi = x[static_cast<std::size_t>(i)];
       const double ri = radius[static_cast<std::size_t>(i)] + skin;
       const auto c = grid.cell_of(xi);
+      const int x_lo = std::max(c[0] - 1, 0), x_hi = std::min(c[0] + 1, dims[0] - 1);
       for (int dz = -1; dz <= 1; ++dz) {
         const int iz = c[2] + dz;
         if (iz < 0 || iz >= dims[2]) continue;
         for (int dy = -1; dy <= 1; ++dy) {
           const int iy = c[1] + dy;
           if (iy < 0 || iy >= dims[1]) continue;
-          for (int dx = -1; dx <= 1; ++dx) {
-            const int ix = c[0] + dx;
-            if (ix < 0 || ix >= dims[0]) continue;
-            const std::int64_t cell = grid.linear(ix, iy, iz);
-            // A cell lists its points in ascending order: skip those up to i (each pair once).
-            // After a re-sort by cells, every point of an earlier cell comes before i: the
-            // whole cell goes with one comparison.
-            const std::int32_t* it = grid.begin(cell);
-            const std::int32_t* const last = grid.end(cell);
-            if (it == last || last[-1] <= i) continue;
-            while (*it <= i) ++it;
-            for (; it != last; ++it) {
-              const std::int32_t j = *it;
-              const double reach = ri + radius[static_cast<std::size_t>(j)];
-              if ((x[static_cast<std::size_t>(j)] - xi).squaredNorm() < reach * reach) {
-                out_first.push_back(static_cast<std::int32_t>(i));
-                out_second.push_back(j);
-              }
-            }
+          // The row's three cells are neighbours in the grid's order: one run of points, cell by
+          // cell, each cell's in ascending order. A row whose every point comes before i (each
+          // cell's last point is its largest; all earlier rows once the particles are sorted by
+          // cells) goes with three comparisons.
+          const std::int64_t row_lo = grid.linear(x_lo, iy, iz), row_hi = grid.linear(x_hi, iy, iz);
+          const std::int32_t* it = grid.begin(row_lo);
+          const std::int32_t* const last = grid.end(row_hi);
+          std::int32_t row_max = -1;
+          for (std::int64_t cell = row_lo; cell <= row_hi; ++cell)
+            if (grid.begin(cell) != grid.end(cell)) row_max = std::max(row_max, grid.end(cell)[-1]);
+          if (row_max <= i) continue;
+          // Every point is written to the next slot, which only a pair within reach keeps: about
+          // one in five is, in no predictable pattern, and a branch on it would mispredict.
+          const auto room = found + static_cast<std::size_t>(last - it);
+          if (out_second.size() < room) {
+            out_first.resize(std::max(room, 2 * out_second.size()));
+            out_second.resize(out_first.size());
+          }
+          for (; it != last; ++it) {
+            const std::int32_t j = *it;
+            const double reach = ri + radius[static_cast<std::size_t>(j)];
+            const bool keep = j > i && (x[static_cast<std::size_t>(j)] - xi).squaredNorm() < reach * reach;
+            out_first[found] = static_cast<std::int32_t>(i);
+            out_second[found] = j;
+            found += keep ? 1 : 0;
           }
         }
       }
     }
+    out_first.resize(found);
+    out_second.resize(found);
   }
   // Exact-size result, each thread's buffer freed once copied: the rebuild's peak memory is the
   // largest of the run (it sets the bytes per ball of the largest specimens).
