@@ -253,13 +253,25 @@ void World::refresh_near() {
     // A candidate left out is more than near_skin apart now, so it cannot touch before some
     // particle has moved half of that, when the list is made again. One that touched in the
     // last step stays in, so that the loop ends its history as usual.
-    c->near.clear();
-    for (std::size_t k = 0; k < c->size(); ++k) {
-      const auto i = static_cast<std::size_t>(c->first[k]);
-      const auto j = static_cast<std::size_t>(c->second[k]);
-      const double reach = p.radius[i] + p.radius[j] + near_skin_;
-      if (c->touching[k] || (p.x[j] - p.x[i]).squaredNorm() < reach * reach) c->near.push_back(static_cast<std::int32_t>(k));
+    // Each thread lists a contiguous range of candidates; the lists are joined in range order,
+    // so the near list is the same for any thread count.
+    const auto count = static_cast<std::int64_t>(c->size());
+    const int threads = threads_for(count, threads_);
+    std::vector<std::vector<std::int32_t>> local(static_cast<std::size_t>(threads));
+#pragma omp parallel for schedule(static) num_threads(threads)
+    for (int t = 0; t < threads; ++t) {
+      std::vector<std::int32_t>& out = local[static_cast<std::size_t>(t)];
+      const std::int64_t begin = count * t / threads, end = count * (t + 1) / threads;
+      for (std::int64_t k = begin; k < end; ++k) {
+        const auto i = static_cast<std::size_t>(c->first[static_cast<std::size_t>(k)]);
+        const auto j = static_cast<std::size_t>(c->second[static_cast<std::size_t>(k)]);
+        const double reach = p.radius[i] + p.radius[j] + near_skin_;
+        if (c->touching[static_cast<std::size_t>(k)] || (p.x[j] - p.x[i]).squaredNorm() < reach * reach)
+          out.push_back(static_cast<std::int32_t>(k));
+      }
     }
+    c->near.clear();
+    for (const auto& part : local) c->near.insert(c->near.end(), part.begin(), part.end());
   }
   x_at_near_ = p.x;
   max_near_travel_sq_ = 0.0;
