@@ -36,7 +36,7 @@ TEST_CASE("broad phase: cell-grid pairs equal brute-force pairs for random polyd
       CHECK(std::is_sorted(first.begin(), first.end()));
 
       // The same points re-sorted by cells, as the engine stores them: the search then skips the
-      // earlier cells whole. The pairs must be the same ones, renumbered.
+      // earlier stencil rows whole. The pairs must be the same ones, renumbered.
       const std::vector<std::int32_t> order = grid.cell_order();
       std::vector<Vec3> sorted_x;
       std::vector<double> sorted_r;
