@@ -8,6 +8,7 @@
 // The blocks run on every instruction set the processor has (AVX2, AVX-512), each compared.
 #include <catch2/catch.hpp>
 
+#include "support/isa_scope.hpp"
 #include "support/scenes.hpp"
 
 using namespace dem;
@@ -81,14 +82,6 @@ ContactCensus census(const World& world, const RollingLinearLaw::Params& params)
   }
   return out;
 }
-
-/// The pair loops' instruction set for one scope (detail::use_block_isa), then the best again.
-struct BlockIsaScope {
-  explicit BlockIsaScope(detail::BlockIsa isa) { detail::use_block_isa(isa); }
-  ~BlockIsaScope() { detail::block_isa_override().store(-1); }
-  BlockIsaScope(const BlockIsaScope&) = delete;
-  BlockIsaScope& operator=(const BlockIsaScope&) = delete;
-};
 
 /// The pile with blocks on each SIMD instruction set this processor has, against one contact at
 /// a time. Returns the run on the best one.

@@ -9,26 +9,16 @@
 #include <dem/core/errors.hpp>
 #include <dem/core/world.hpp>
 
+#include "leapfrog.hpp"
+
+#if defined(_OPENMP)
+#include <omp.h>
+#endif
+
 namespace dem {
 
-namespace {
-
-/// Local damping (docs/model.md 3.1): F_i (1 - alpha sign(F_i V_i)) for each degree of freedom.
-inline Vec3 damped(const Vec3& force, const Vec3& velocity, double alpha) {
-  Vec3 out;
-  for (int a = 0; a < 3; ++a) {
-    const double fv = force[a] * velocity[a];
-    out[a] = force[a] * (1.0 - alpha * ((fv > 0.0) - (fv < 0.0)));
-  }
-  return out;
-}
-
-inline void masked_add(Vec3& velocity, const Vec3& increment, std::uint8_t fixed, int shift) {
-  for (int a = 0; a < 3; ++a)
-    if (!(fixed & (1U << (a + shift)))) velocity[a] += increment[a];
-}
-
-}  // namespace
+using detail::damped;
+using detail::masked_add;
 
 void World::integrate() {
   ParticleStore& p = particles_;
@@ -36,32 +26,29 @@ void World::integrate() {
   const Vec3 g = settings_.gravity;
   const double dt = dt_;
   const auto n = static_cast<std::int64_t>(p.size());
+  const double step_ratio = settings_.max_step_travel_ratio;
+  // x_at_near_ is current: step() refreshed the near lists before the forces
+  const detail::LeapfrogStep leapfrog_step{g, alpha, dt, step_ratio * step_ratio, x_at_rebuild_.data(), x_at_near_.data()};
   double travel_sq = max_travel_sq_, near_travel_sq = max_near_travel_sq_;
   std::int64_t bad = std::numeric_limits<std::int64_t>::max();
-  const double step_ratio_sq = settings_.max_step_travel_ratio * settings_.max_step_travel_ratio;
-  const Vec3* x_at_near = x_at_near_.data();  // step() refreshed the near lists before the forces
 
-#pragma omp parallel for schedule(static) num_threads(threads_for(n, threads_)) \
-    reduction(max : travel_sq, near_travel_sq) reduction(min : bad)
-  for (std::int64_t s = 0; s < n; ++s) {
-    const auto i = static_cast<std::size_t>(s);
-    if (p.clump[i] >= 0) continue;
-    const std::uint8_t fixed = p.fixed[i];
-    const Vec3 force = damped(p.f[i] + g / p.inv_mass[i], p.v[i], alpha);
-    const Vec3 torque = damped(p.t[i], p.w[i], alpha);
-    if (fixed == 0) {
-      p.v[i] += force * (p.inv_mass[i] * dt);
-      p.w[i] += torque * (p.inv_inertia[i] * dt);
-    } else {
-      masked_add(p.v[i], force * (p.inv_mass[i] * dt), fixed, 0);
-      masked_add(p.w[i], torque * (p.inv_inertia[i] * dt), fixed, 3);
-    }
-    const Vec3 move = p.v[i] * dt;
-    p.x[i] += move;
-    travel_sq = std::max(travel_sq, (p.x[i] - x_at_rebuild_[i]).squaredNorm());
-    near_travel_sq = std::max(near_travel_sq, (p.x[i] - x_at_near[i]).squaredNorm());
-    const double r = p.radius[i];
-    if (!(move.squaredNorm() <= step_ratio_sq * r * r) || !p.w[i].allFinite()) bad = std::min(bad, s);
+  // Each thread a contiguous range of whole groups of eight (the kernel's SIMD width): a
+  // particle's update depends on nothing else, so any split gives the same bits.
+  const int threads = threads_for(n, threads_);
+#pragma omp parallel num_threads(threads) reduction(max : travel_sq, near_travel_sq) reduction(min : bad)
+  {
+#if defined(_OPENMP)
+    const std::int64_t team = omp_get_num_threads(), me = omp_get_thread_num();
+#else
+    const std::int64_t team = 1, me = 0;
+#endif
+    const std::int64_t groups = (n + 7) / 8;
+    const std::int64_t begin = std::min(n, 8 * (groups * me / team)), end = std::min(n, 8 * (groups * (me + 1) / team));
+    detail::LeapfrogTally tally{travel_sq, near_travel_sq, bad};
+    detail::leapfrog(p, leapfrog_step, begin, end, tally);
+    travel_sq = tally.travel_sq;
+    near_travel_sq = tally.near_travel_sq;
+    bad = tally.first_unstable;
   }
   max_travel_sq_ = travel_sq;
   max_near_travel_sq_ = near_travel_sq;

@@ -255,8 +255,9 @@ inline BlockIsa detected_block_isa() { return BlockIsa::scalar; }
 #define DEM_TARGET_AVX512
 #endif
 
-/// The instruction set the pair loops use: the processor's best, or a lesser one a test asked
-/// for (use_block_isa), so that every path can be compared on one machine.
+/// The instruction set the pair loops (and the engine's leapfrog kernel, core/leapfrog.hpp) use:
+/// the processor's best, or a lesser one a test asked for (use_block_isa), so that every path can
+/// be compared on one machine.
 inline std::atomic<int>& block_isa_override() {
   static std::atomic<int> isa{-1};
   return isa;
@@ -266,7 +267,7 @@ inline BlockIsa block_isa() {
   const BlockIsa best = detected_block_isa();
   return asked < 0 ? best : static_cast<BlockIsa>(std::min(asked, static_cast<int>(best)));
 }
-/// Tests: run the pair loops with `isa` (or the processor's best, if that is less).
+/// Tests: run the pair loops and the leapfrog with `isa` (or the processor's best, if that is less).
 inline void use_block_isa(BlockIsa isa) { block_isa_override().store(static_cast<int>(isa)); }
 inline bool lanes_worthwhile() { return block_isa() != BlockIsa::scalar; }
 
