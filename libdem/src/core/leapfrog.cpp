@@ -15,6 +15,13 @@ namespace dem::detail {
 
 namespace {
 
+/// The stability check of a particle just updated: it moved more than the step ratio allows, or
+/// its spin is not finite.
+inline bool runaway(const ParticleStore& p, const LeapfrogStep& step, std::size_t i) {
+  const Vec3 move = p.v[i] * step.dt;
+  return !(move.squaredNorm() <= step.step_ratio_sq * p.radius[i] * p.radius[i]) || !p.w[i].allFinite();
+}
+
 /// One particle, as the engine always did it: the reference every other path matches.
 inline void leapfrog_one(ParticleStore& p, const LeapfrogStep& step, std::int64_t s, LeapfrogTally& tally) {
   const auto i = static_cast<std::size_t>(s);
@@ -34,9 +41,7 @@ inline void leapfrog_one(ParticleStore& p, const LeapfrogStep& step, std::int64_
   p.x[i] += move;
   tally.travel_sq = std::max(tally.travel_sq, (p.x[i] - step.x_at_rebuild[i]).squaredNorm());
   tally.near_travel_sq = std::max(tally.near_travel_sq, (p.x[i] - step.x_at_near[i]).squaredNorm());
-  const double r = p.radius[i];
-  if (!(move.squaredNorm() <= step.step_ratio_sq * r * r) || !p.w[i].allFinite())
-    tally.first_unstable = std::min(tally.first_unstable, s);
+  if (runaway(p, step, i)) tally.first_unstable = std::min(tally.first_unstable, s);
 }
 
 #if defined(DEM_LEAPFROG_AVX512)
@@ -160,10 +165,7 @@ DEM_AVX512 void leapfrog_avx512(ParticleStore& p, const LeapfrogStep& step, std:
     for (int q = 0; q < 3; ++q) finite &= _mm512_cmp_pd_mask(_mm512_sub_pd(w_new[q], w_new[q]), zero, _CMP_EQ_OQ);
     if ((slow & finite & free_balls) != free_balls) {  // rare: find the first offender as the scalar check does
       for (std::int64_t s = i; s < i + 8; ++s) {
-        const auto k = static_cast<std::size_t>(s);
-        if (p.clump[k] >= 0) continue;
-        const Vec3 moved = p.v[k] * step.dt;
-        if (!(moved.squaredNorm() <= step.step_ratio_sq * p.radius[k] * p.radius[k]) || !p.w[k].allFinite()) {
+        if (p.clump[static_cast<std::size_t>(s)] < 0 && runaway(p, step, static_cast<std::size_t>(s))) {
           tally.first_unstable = std::min(tally.first_unstable, s);
           break;
         }
