@@ -186,6 +186,7 @@ DEM_AVX512 void leapfrog_avx512(ParticleStore& p, const LeapfrogStep& step, std:
 }  // namespace
 
 void leapfrog(ParticleStore& p, const LeapfrogStep& step, std::int64_t begin, std::int64_t end, LeapfrogTally& tally) {
+  if (begin >= end) return;  // an empty world may have no reference positions at all
 #if defined(DEM_LEAPFROG_AVX512)
   if (block_isa() == BlockIsa::avx512) return leapfrog_avx512(p, step, begin, end, tally);
 #endif
