@@ -82,8 +82,8 @@ struct LinearOneAtATime {
 };
 
 /// Balls, spinning and falling into a pile with locally damped motion, among small rigid clumps,
-/// with two balls partly fixed. Re-sorted at every rebuild, so that pebbles share groups of eight
-/// with balls in storage.
+/// one ball partly fixed (x and its spin about z) and one held entirely. Re-sorted at every
+/// rebuild, so that pebbles share groups of eight with balls in storage.
 World damped_pile_with_clumps() {
   WorldSettings s;
   s.gravity = Vec3(300.0, 0.0, -2000.0);
