@@ -51,16 +51,6 @@ World pile(const typename Law::Params& params, double near_skin = 0.0) {
   return world;
 }
 
-void require_same_bits(const World& a, const World& b) {
-  const ParticleStore& p = a.particles();
-  const ParticleStore& q = b.particles();
-  REQUIRE(p.size() == q.size());
-  std::size_t differing = 0;
-  for (std::size_t i = 0; i < p.size(); ++i)
-    if (p.x[i] != q.x[i] || p.v[i] != q.v[i] || p.w[i] != q.w[i]) ++differing;
-  CHECK(differing == 0);
-}
-
 /// Touching ball-ball contacts, and those at their Coulomb and rolling caps.
 struct ContactCensus {
   std::size_t touching = 0, sliding = 0, rolling_capped = 0;
