@@ -450,7 +450,8 @@ PairContacts read_pairs(Reader& r, const ContactModel* model, ContactKind kind, 
   check_length(c.normal_force.size(), count, name + ".normal_force", "one per contact");
   fill_results(c.normal_force, count, name + ".normal_force");
   fill_results(c.force, count, name + ".force");
-  fill_results(c.torque_first, count, name + ".torque_first");
+  // Empty unless the step before the save gathered: kept as read, so a loaded state saves the same.
+  if (!c.torque_first.empty()) fill_results(c.torque_first, count, name + ".torque_first");
   fill_results(torque_second, count, name + ".torque_second");
   read_states(r, model, c.state, count, name);
   mark_touching(c);
