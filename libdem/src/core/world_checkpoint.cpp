@@ -159,7 +159,10 @@ void write_pairs(Writer& w, const PairContacts& c) {
   w.vec(c.first);
   w.vec(c.second);
   w.vec(c.force);
-  w.vec(c.torque_first);
+  // The torques on piece 1 are scratch of the step that gathers: written before they are read,
+  // and only for the contacts the current thread plan gathers. Saved, their other entries would
+  // make the file depend on earlier plans, not on the state. The format keeps their place.
+  w.vec(std::vector<Vec3>{});
   w.vec(std::vector<Vec3>{});  // torque_second: no longer stored (second_torque); the format keeps its place
   w.vec(c.normal_force);
   write_states(w, c.state);
@@ -440,7 +443,7 @@ PairContacts read_pairs(Reader& r, const ContactModel* model, ContactKind kind, 
   c.first = r.vec<std::int32_t>(name + ".first");
   c.second = r.vec<std::int32_t>(name + ".second");
   c.force = r.vec<Vec3>(name + ".force");
-  c.torque_first = r.vec<Vec3>(name + ".torque_first");
+  std::vector<Vec3> torque_first = r.vec<Vec3>(name + ".torque_first");  // older files: checked, not kept
   std::vector<Vec3> torque_second = r.vec<Vec3>(name + ".torque_second");  // older files: checked, not kept
   c.normal_force = r.vec<double>(name + ".normal_force");
   const std::size_t count = c.size();
@@ -450,8 +453,7 @@ PairContacts read_pairs(Reader& r, const ContactModel* model, ContactKind kind, 
   check_length(c.normal_force.size(), count, name + ".normal_force", "one per contact");
   fill_results(c.normal_force, count, name + ".normal_force");
   fill_results(c.force, count, name + ".force");
-  // Empty unless the step before the save gathered: kept as read, so a loaded state saves the same.
-  if (!c.torque_first.empty()) fill_results(c.torque_first, count, name + ".torque_first");
+  fill_results(torque_first, count, name + ".torque_first");
   fill_results(torque_second, count, name + ".torque_second");
   read_states(r, model, c.state, count, name);
   mark_touching(c);

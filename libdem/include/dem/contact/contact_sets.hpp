@@ -33,9 +33,9 @@ struct PairContacts {
   std::vector<std::int32_t> first, second;  // storage indices of the two pieces
   StateBuffer state;
   std::vector<Vec3> force;           // N, on piece 2 (piece 1 gets -force)
-  /// N m, total torque on piece 1 about its centre (piece 2: second_torque). Only a step that
-  /// gathers (several threads) fills it, and only for the gathered particles' contacts; empty
-  /// otherwise. Use force and the arms for the torques of a contact, not this.
+  /// N m, total torque on piece 1 about its centre (piece 2: second_torque). Scratch of a step
+  /// that gathers (several threads): filled only for the gathered particles' contacts, empty on
+  /// one thread, not in restart files. Use force and the arms for a contact's torques, not this.
   std::vector<Vec3> torque_first;
   std::vector<double> normal_force;  // N, elastic, compression positive; 0 if not touching
   /// 1 where normal_force or force is non-zero: a contact the loops must end (mark_touching)

@@ -404,9 +404,8 @@ void compute_pairs(const typename Law::Params& params, PairContacts& c, const Ke
   c.force.resize(c.size(), Vec3::Zero());
   c.normal_force.resize(c.size(), 0.0);
   if (c.touching.size() != c.size()) mark_touching(c);
-  // Only the gather reads the torques on piece 1, so only a gathered step keeps them. Dropped
-  // otherwise: the state (and a restart file) then follows this step's thread plan, not whether
-  // a gathered step or a loaded file came before.
+  // Only the gather reads the torques on piece 1, so only a gathered step keeps them (scratch:
+  // restart files leave them out).
   if (gathered) c.torque_first.resize(c.size(), Vec3::Zero());
   else c.torque_first.clear();
   const bool records = gathered != nullptr;
