@@ -168,7 +168,8 @@ TEST_CASE("simple shear: a specimen consolidated again at twice E* keeps its pac
   // stiffness instead and the mean overlap falls less: to between 1/2 and 1 of what it was
   // (measured 0.83; 0.69 for near-vertical normals). Unchanged stiffness would give 1, a doubled
   // doubling 1/4. The packing itself stays: no ball moves by a fifth of its radius (a new packing
-  // would move them by diameters) and the contact count stays within 10 %.
+  // would move them by diameters). The smaller overlaps open the weakest contacts: the count
+  // falls, by 5.6-11 % over specimen seeds 1-12 (mean 8.2 %, standard deviation 1.5 %).
   io::Config c = small_config();
   c.set("output.fabric_strains", "");
   c.set("output.snapshot_strains", "");
@@ -211,7 +212,9 @@ TEST_CASE("simple shear: a specimen consolidated again at twice E* keeps its pac
   CHECK(overlap_ratio > 0.5);
   CHECK(overlap_ratio < 0.95);
   CHECK(after.height > before.height);  // smaller overlaps: the plate rises
-  CHECK(std::abs(static_cast<double>(after.contacts) / static_cast<double>(before.contacts) - 1.0) < 0.10);
+  const double contact_change = static_cast<double>(after.contacts) / static_cast<double>(before.contacts) - 1.0;
+  CHECK(contact_change < 0.0);
+  CHECK(contact_change > -0.15);  // four and a half standard deviations beyond the seeds' mean
   double largest_move = 0.0;
   for (std::size_t i = 0; i < before.positions.size(); ++i)
     largest_move = std::max(largest_move, (after.positions[i] - before.positions[i]).norm() / first.world().particles().radius[i]);
