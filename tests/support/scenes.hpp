@@ -39,6 +39,22 @@ inline FacetWall floor_wall(double z, double half_size) {
                          -Vec3::UnitZ());
 }
 
+/// A simple cubic lattice of per_side^3 balls 0.62 mm apart with radii 0.30-0.33 mm (so that
+/// neighbours overlap: a compressed packing that springs apart) and random spins up to 50 rad/s.
+inline std::vector<BallSpec> spinning_lattice(int per_side, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<BallSpec> balls;
+  for (int i = 0; i < per_side; ++i)
+    for (int j = 0; j < per_side; ++j)
+      for (int k = 0; k < per_side; ++k) {
+        BallSpec b = ball_at(Vec3(i, j, k) * 0.62e-3, Vec3::Zero(), 0.3e-3 + 0.03e-3 * u(rng));
+        b.angular_velocity = Vec3(u(rng), u(rng), u(rng)) * 50.0;
+        balls.push_back(b);
+      }
+  return balls;
+}
+
 /// Random polydisperse positions in a box, for broad-phase and conservation tests.
 inline std::vector<BallSpec> random_balls(std::size_t n, double box, double r_min, double r_max, unsigned seed) {
   std::mt19937_64 rng(seed);

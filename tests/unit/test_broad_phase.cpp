@@ -147,15 +147,7 @@ TEST_CASE("determinism: one and two threads give bit-identical trajectories", "[
     WorldSettings s;
     s.threads = threads;
     World world(s);
-    std::mt19937_64 rng(9);
-    std::uniform_real_distribution<double> u(0.0, 1.0);
-    for (int i = 0; i < 16; ++i)
-      for (int j = 0; j < 16; ++j)
-        for (int k = 0; k < 16; ++k) {
-          BallSpec b = ball_at(Vec3(i, j, k) * 0.62e-3, Vec3::Zero(), 0.3e-3 + 0.03e-3 * u(rng));
-          b.angular_velocity = Vec3(u(rng), u(rng), u(rng)) * 50.0;
-          world.add_ball(b);
-        }
+    for (const BallSpec& b : spinning_lattice(16, 9)) world.add_ball(b);
     // the bottom and top layers' centres are 0.28 mm from the plates: every one of them touches
     const double span = 15 * 0.62e-3;
     world.add_wall(tiled_plate("bottom", -0.28e-3, span, 24, -Vec3::UnitZ()));

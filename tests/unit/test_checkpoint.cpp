@@ -6,7 +6,6 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
-#include <random>
 #include <sstream>
 #include <utility>
 
@@ -49,15 +48,7 @@ World springing_lattice(int threads) {
   s.threads = threads;
   s.gravity = Vec3(0, 0, -9.81);
   World world(s);
-  std::mt19937_64 rng(5);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  for (int i = 0; i < 12; ++i)
-    for (int j = 0; j < 12; ++j)
-      for (int k = 0; k < 12; ++k) {
-        BallSpec b = ball_at(Vec3(i, j, k) * 0.62e-3, Vec3::Zero(), 0.3e-3 + 0.03e-3 * u(rng));
-        b.angular_velocity = Vec3(u(rng), u(rng), u(rng)) * 50.0;
-        world.add_ball(b);
-      }
+  for (const BallSpec& b : spinning_lattice(12, 5)) world.add_ball(b);
   world.add_wall(floor_wall(-0.28e-3, 0.02));  // the bottom layer touches it
   set_models(world);
   return world;
