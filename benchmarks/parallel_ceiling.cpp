@@ -38,8 +38,8 @@ double compute_work(long rounds) {
   return sum;
 }
 
-/// Sums an array far larger than the caches, several times, in eight independent sums so that
-/// memory, not the adder's latency, sets the pace.
+/// Sums an array several times, in eight independent sums so that the cache or memory the array
+/// lives in, not the adder's latency, sets the pace.
 double memory_work(const std::vector<double>& data, int passes) {
   double sums[8] = {};
   for (int p = 0; p < passes; ++p)
