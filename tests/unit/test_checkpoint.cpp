@@ -1,4 +1,6 @@
 // Restart files: a run resumed from a checkpoint continues bit for bit; damaged files are refused.
+#include <unistd.h>
+
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -54,7 +56,12 @@ World springing_lattice(int threads) {
   return world;
 }
 
-fs::path temp_file(const std::string& name) { return fs::temp_directory_path() / ("libdem_test_" + name); }
+/// A file name of this test process: CTest runs the test cases side by side, each in its own
+/// process, and several of them write and remove the same kind of file (a shared name made one
+/// case read "cannot be opened" after another removed its file).
+fs::path temp_file(const std::string& name) {
+  return fs::temp_directory_path() / ("libdem_test_" + std::to_string(::getpid()) + "_" + name);
+}
 
 std::string state_of(const World& world) {
   std::ostringstream out(std::ios::binary);
