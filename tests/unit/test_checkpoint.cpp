@@ -1,6 +1,4 @@
 // Restart files: a run resumed from a checkpoint continues bit for bit; damaged files are refused.
-#include <unistd.h>
-
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -15,6 +13,7 @@
 
 #include "fuzz/checkpoint_world.hpp"
 #include "support/scenes.hpp"
+#include "support/temp_dir.hpp"
 
 using namespace dem;
 using namespace dem::testing;
@@ -56,11 +55,12 @@ World springing_lattice(int threads) {
   return world;
 }
 
-/// A file name of this test process: CTest runs the test cases side by side, each in its own
-/// process, and several of them write and remove the same kind of file (a shared name made one
-/// case read "cannot be opened" after another removed its file).
+/// A file in this test process's own folder: CTest runs the test cases side by side, and several
+/// write and remove files of the same name (a shared folder made one case read "cannot be
+/// opened" after another removed its file).
 fs::path temp_file(const std::string& name) {
-  return fs::temp_directory_path() / ("libdem_test_" + std::to_string(::getpid()) + "_" + name);
+  static const dem::testing::TempDir folder("checkpoint");
+  return folder.path / name;
 }
 
 std::string state_of(const World& world) {
