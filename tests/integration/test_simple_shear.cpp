@@ -2,6 +2,7 @@
 // balls): outputs, their consistency, determinism and restart equality.
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -56,7 +57,7 @@ TEST_CASE("simple shear: a reduced specimen runs end to end with consistent outp
   for (const char* f : {"history.csv", "summary.json", "fabric.csv", "consolidated.restart", "snapshots/balls.pvd",
                         "snapshots/balls_strain_02.0.vtp", "snapshots/contacts_strain_02.0.csv"})
     CHECK(fs::exists(dir / f));
-  const io::CsvData h = io::read_csv(dir / "history.csv");
+  const io::CsvData h = io::read_csv(dir / "history.csv", io::Missing::Allowed);
   for (const char* col : {"time", "shear_strain_x", "shear_strain_y", "shear_strain", "shear_stress_x", "shear_stress_y",
                           "shear_stress", "vertical_stress", "volumetric_strain", "sigma_1", "sigma_2", "sigma_3",
                           "principal_rotation_deg", "coordination_number", "contacts", "mean_contact_force", "porosity",
@@ -84,9 +85,11 @@ TEST_CASE("simple shear: a reduced specimen runs end to end with consistent outp
   // Principal stresses are ordered and the major direction has rotated in the shear sense.
   CHECK(last[h.column("sigma_1")] >= last[h.column("sigma_2")]);
   CHECK(last[h.column("sigma_2")] >= last[h.column("sigma_3")]);
-  // At frictional failure in simple shear the major direction tilts by 45 deg +- phi/2 in the
-  // shear sense; the probe holds few balls here, so only the range is checked.
-  CHECK(last[h.column("principal_rotation_deg")] > 20.0);
+  // After consolidation the major direction is vertical (to the probe's noise of a few degrees);
+  // sheared, it tilts in the shear sense, towards 45 deg +- phi/2 at failure. 3 % strain is short
+  // of failure for this loose specimen, and the probe holds few balls, so only the range is checked.
+  CHECK(std::abs(first[h.column("principal_rotation_deg")]) < 5.0);
+  CHECK(last[h.column("principal_rotation_deg")] > 10.0);
   CHECK(last[h.column("principal_rotation_deg")] < 70.0);
   // Summary agrees with the history.
   const io::Json s = io::Json::parse(file_text(dir / "summary.json"));
@@ -150,7 +153,7 @@ TEST_CASE("simple shear: the servo plate keeps up with a dilating specimen", "[s
     std::ostringstream log;
     SimpleShearTest test(simple_shear_config(c), dir, log);
     test.run();
-    const io::CsvData h = io::read_csv(dir / "history.csv");
+    const io::CsvData h = io::read_csv(dir / "history.csv", io::Missing::Allowed);
     double worst = 0.0;
     for (const auto& row : h.rows)
       if (row[h.column("stage")] >= 2) worst = std::max(worst, std::abs(row[h.column("vertical_stress")] / 200e3 - 1.0));
@@ -242,7 +245,7 @@ TEST_CASE("simple shear: a consolidated specimen is sheared from another folder,
   const std::string branch_history = file_text(shear_dir / "history.csv");
   // The branch's history continues the specimen's: the same rows up to consolidation, then the shear.
   CHECK(branch_history.rfind(specimen_history, 0) == 0);
-  CHECK(io::read_csv(shear_dir / "history.csv").rows.size() > io::read_csv(specimen_dir / "history.csv").rows.size());
+  CHECK(io::read_csv(shear_dir / "history.csv", io::Missing::Allowed).rows.size() > io::read_csv(specimen_dir / "history.csv", io::Missing::Allowed).rows.size());
   CHECK(file_text(specimen_dir / "history.csv") == specimen_history);
   CHECK(fs::exists(shear_dir / "snapshots" / "balls.pvd"));
 

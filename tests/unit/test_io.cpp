@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 
+#include <cmath>
 #include <fstream>
 #include <iterator>
 #include <sstream>
@@ -134,6 +135,28 @@ TEST_CASE("CsvTable rejects bad columns and rows", "[io][csv]") {
   CHECK_THROWS_WITH(table.add_row({1.0, std::nan(""), 3.0}), Contains("'b'") && Contains("nan"));
   CHECK_THROWS_WITH(table.column_index("d"), Contains("'d'") && Contains("a, b, c"));
   CHECK(table.rows().empty());
+}
+
+TEST_CASE("A table that allows missing values writes NaN as nan and reads it back; infinities stay refused", "[io][csv]") {
+  using dem::io::CsvTable;
+  using dem::io::Missing;
+  TempDir dir("csv_missing");
+  CsvTable table({"a", "b"}, Missing::Allowed);
+  table.add_row({1.5, std::nan("")});
+  table.add_row({-std::nan(""), 2.0});  // the sign of a NaN is not kept: every missing value is "nan"
+  CHECK_THROWS_WITH(table.add_row({1.0, HUGE_VAL}), Contains("'b'") && Contains("NaN (missing)"));
+  table.save(dir.path / "t.csv");
+  std::ifstream in(dir.path / "t.csv");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  CHECK(text == "a,b\n1.5,nan\nnan,2\n");
+  const auto back = dem::io::read_csv(dir.path / "t.csv", Missing::Allowed);
+  CHECK(back.rows[0][0] == 1.5);
+  CHECK(std::isnan(back.rows[0][1]));
+  CHECK(std::isnan(back.rows[1][0]));
+  // Read by default rules, the same file is refused: a NaN there means the run went wrong.
+  CHECK_THROWS_WITH(dem::io::read_csv(dir.path / "t.csv"), Contains("'nan'"));
+  std::ofstream(dir.path / "inf.csv") << "a\ninf\n";
+  CHECK_THROWS_WITH(dem::io::read_csv(dir.path / "inf.csv", Missing::Allowed), Contains("infinite"));
 }
 
 TEST_CASE("read_csv skips comments and blanks, trims spaces, accepts CRLF", "[io][csv]") {

@@ -71,7 +71,7 @@ void check_columns(const std::vector<std::string>& columns, const std::string& w
 }
 
 // The parsed value, or nullopt with `problem` filled in.
-std::optional<double> parse_cell(std::string_view cell, std::string& problem) {
+std::optional<double> parse_cell(std::string_view cell, std::string& problem, Missing missing) {
   if (!cell.empty() && cell.front() == '+' && cell.substr(1, 1) != "-") cell.remove_prefix(1);
   double value = 0.0;
   const auto [end, error] = std::from_chars(cell.data(), cell.data() + cell.size(), value);
@@ -79,8 +79,11 @@ std::optional<double> parse_cell(std::string_view cell, std::string& problem) {
     problem = "is out of the range of a double";
   } else if (error != std::errc() || end != cell.data() + cell.size()) {
     problem = "is not a number";
+  } else if (std::isnan(value) && missing == Missing::Allowed) {
+    return std::numeric_limits<double>::quiet_NaN();
   } else if (!std::isfinite(value)) {
-    problem = "is NaN or infinite; only finite numbers are allowed";
+    problem = missing == Missing::Allowed ? "is infinite; only finite numbers or nan are allowed"
+                                          : "is NaN or infinite; only finite numbers are allowed";
   } else {
     return value;
   }
@@ -89,7 +92,7 @@ std::optional<double> parse_cell(std::string_view cell, std::string& problem) {
 
 }  // namespace
 
-CsvTable::CsvTable(std::vector<std::string> columns) : columns_(std::move(columns)) {
+CsvTable::CsvTable(std::vector<std::string> columns, Missing missing) : columns_(std::move(columns)), missing_(missing) {
   check_columns(columns_, "");
 }
 
@@ -98,8 +101,9 @@ void CsvTable::add_row(const std::vector<double>& row) {
     throw InputError("CSV row has " + std::to_string(row.size()) + " values: must have " +
                      std::to_string(columns_.size()) + " (columns " + joined(columns_) + ")");
   for (std::size_t i = 0; i < row.size(); ++i)
-    require(std::isfinite(row[i]), "CSV value in column '" + columns_[i] + "'", row[i],
-            "a finite number");
+    require(std::isfinite(row[i]) || (std::isnan(row[i]) && missing_ == Missing::Allowed),
+            "CSV value in column '" + columns_[i] + "'", row[i],
+            missing_ == Missing::Allowed ? "a finite number or NaN (missing)" : "a finite number");
   rows_.push_back(row);
 }
 
@@ -110,7 +114,13 @@ void CsvTable::save(const std::filesystem::path& path) const {
     for (std::size_t i = 0; i < columns_.size(); ++i) out << (i ? "," : "") << columns_[i];
     out << '\n';
     for (const auto& row : rows_) {
-      for (std::size_t i = 0; i < row.size(); ++i) out << (i ? "," : "") << row[i];
+      for (std::size_t i = 0; i < row.size(); ++i) {
+        out << (i ? "," : "");
+        if (std::isnan(row[i]))
+          out << "nan";
+        else
+          out << row[i];
+      }
       out << '\n';
     }
   });
@@ -122,7 +132,7 @@ std::size_t CsvTable::column_index(const std::string& name) const {
 
 std::size_t CsvData::column(const std::string& name) const { return find_column(columns, name); }
 
-CsvData read_csv(const std::filesystem::path& path) {
+CsvData read_csv(const std::filesystem::path& path, Missing missing) {
   std::ifstream in(path);
   if (!in) {
     std::error_code ec;
@@ -151,7 +161,7 @@ CsvData read_csv(const std::filesystem::path& path) {
     std::vector<double> row(cells.size());
     for (std::size_t i = 0; i < cells.size(); ++i) {
       std::string problem;
-      const auto value = parse_cell(cells[i], problem);
+      const auto value = parse_cell(cells[i], problem, missing);
       if (!value)
         throw InputError(where + "cell '" + std::string(cells[i]) + "' in column '" +
                          data.columns[i] + "' " + problem);

@@ -221,7 +221,7 @@ ModelCurve ShearTrials::shear(const ContactFit& fit, double strain, int number, 
             "2 (consolidated)");
     test.shear();
   }
-  const ModelCurve model = model_curve_from_history(io::read_csv(dir / "history.csv"));
+  const ModelCurve model = model_curve_from_history(io::read_csv(dir / "history.csv", io::Missing::Allowed));
   for (const auto& entry : fs::directory_iterator(dir))
     if (entry.path().filename() != "history.csv" && entry.path().filename() != "log.txt") fs::remove_all(entry.path());
   return model;
@@ -230,7 +230,7 @@ ModelCurve ShearTrials::shear(const ContactFit& fit, double strain, int number, 
 std::optional<ModelCurve> ShearTrials::stored_curve(int number) const {
   const fs::path file = trial_dir(number) / "history.csv";
   if (!fs::exists(file)) return std::nullopt;
-  return model_curve_from_history(io::read_csv(file));
+  return model_curve_from_history(io::read_csv(file, io::Missing::Allowed));
 }
 
 }  // namespace dem::lab

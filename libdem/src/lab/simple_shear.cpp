@@ -24,32 +24,43 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-RollingLinearLaw::Params law_params(const ContactTypeConfig& c, bool frictionless) {
-  auto p = RollingLinearLaw::Params::deformable(c.effective_modulus, c.stiffness_ratio, frictionless ? 0.0 : c.friction,
-                                                frictionless ? 0.0 : c.rolling_friction);
+RollingLinearLaw::Params law_params(const ContactTypeConfig& c, double friction, double rolling_friction) {
+  auto p = RollingLinearLaw::Params::deformable(c.effective_modulus, c.stiffness_ratio, friction, rolling_friction);
   p.normal_damping_ratio = c.normal_damping_ratio;
   p.shear_damping_ratio = c.shear_damping_ratio;
   return p;
 }
 
-std::vector<std::string> history_columns() {
-  return {"time", "step", "stage", "shear_strain_x", "shear_strain_y", "shear_strain", "shear_stress_x", "shear_stress_y",
-          "shear_stress", "shear_stress_bottom", "vertical_stress", "vertical_stress_bottom", "height",
-          "volumetric_strain", "lateral_stress", "k0", "sigma_1", "sigma_2", "sigma_3", "principal_rotation_deg",
-          "ms_sxx", "ms_syy", "ms_szz", "ms_sxy", "ms_sxz", "ms_syz", "ms_shear_stress", "coordination_number",
-          "contacts", "mean_contact_force", "porosity", "kinetic_energy", "inertial_number"};
+std::vector<std::string> history_columns(std::size_t rings, int bins) {
+  std::vector<std::string> c = {
+      "time", "step", "stage", "shear_strain_x", "shear_strain_y", "shear_strain", "shear_stress_x", "shear_stress_y",
+      "shear_stress", "shear_stress_bottom", "vertical_stress", "vertical_stress_bottom", "height",
+      "volumetric_strain", "lateral_stress", "k0", "sigma_1", "sigma_2", "sigma_3", "principal_rotation_deg",
+      "ms_sxx", "ms_syy", "ms_szz", "ms_sxy", "ms_sxz", "ms_syz", "ms_shear_stress", "coordination_number",
+      "contacts", "mean_contact_force", "porosity", "kinetic_energy", "inertial_number",
+      // uniformity and the study's non-coaxiality (docs/model.md 8.1)
+      "specimen_porosity", "balls_outside", "contacts_within_detection", "mechanical_coordination_number",
+      "strain_rate_direction_deg", "non_coaxiality_deg", "profile_r2", "strain_bottom_third", "strain_middle_third",
+      "strain_top_third", "top_bottom_strain_ratio"};
+  for (const char* layer : {"bottom", "middle", "top"})
+    for (const char* what : {"stress_ratio", "porosity"}) c.push_back(std::string("layer_") + layer + "_" + what);
+  for (int b = 0; b < bins; ++b) c.push_back("profile_u_" + std::to_string(b + 1));
+  for (std::size_t k = 0; k < rings; ++k)
+    for (const char* axis : {"dx", "dy"}) c.push_back("ring_" + std::to_string(k + 1) + "_" + axis);
+  return c;
 }
 
 }  // namespace
 
 SimpleShearTest::SimpleShearTest(SimpleShearConfig config, std::filesystem::path out_dir, std::ostream& log)
-    : config_(std::move(config)), out_dir_(std::move(out_dir)), log_(log), history_(history_columns()) {
+    : config_(std::move(config)), out_dir_(std::move(out_dir)), log_(log), history_(std::vector<std::string>{"time"}) {
   config_.grading.validate("grading");
   require(config_.total_strain() > 0.0, "shear strain", config_.total_strain(), "> 0");
   std::filesystem::create_directories(out_dir_);
   fabric_ = std::make_unique<FabricLog>(out_dir_ / "fabric.csv");
   snapshots_ = std::make_unique<SnapshotWriter>(out_dir_ / "snapshots");
   build_world();
+  history_ = io::CsvTable(history_columns(world_->clumps().size(), config_.profile_bins), io::Missing::Allowed);
 }
 
 SimpleShearTest::~SimpleShearTest() = default;
@@ -74,24 +85,74 @@ void SimpleShearTest::build_world() {
                                           Vec3::UnitZ(), area_));
   RingStackSpec rings;
   rings.inner_radius = radius;
-  rings.height = height;
+  // Fixed rings cannot follow a dilating specimen: their stack is built with room above it.
+  rings.height = config_.ring_stack_height > 0 ? config_.ring_stack_height
+                 : config_.ring_vertical == RingVertical::Fixed ? 1.1 * height : height;
   rings.ring_height = pebble_d;
   rings.pebble_radius = pebble_d / 2;
   rings.gap = config_.ring_gap > 0 ? config_.ring_gap : 0.05 * pebble_d;
   rings.ring_density = config_.ring_density;
   rings.max_opening = config_.grading.smallest();
   rings.fixed = dof_all;  // held while the specimen is generated; released afterwards
+  pebble_radius_ = rings.pebble_radius;
   for (const ClumpSpec& ring : make_ring_stack(rings)) world_->add_clump(ring);
-  set_contact_models(false);
+  set_contact_models(config_.ball_ball.friction, config_.ball_ball.rolling_friction, false);
+  servo_.reset();
+  world_->add_controller([this](World& w) { control(w); });
 }
 
-void SimpleShearTest::set_contact_models(bool frictionless) {
+void SimpleShearTest::set_contact_models(double friction, double rolling_friction, bool growing) {
+  friction_now_ = friction;
+  rolling_friction_now_ = rolling_friction;
   world_->set_contact_model(ContactKind::BallBall,
-                            make_contact_model<RollingLinearLaw>(law_params(config_.ball_ball, frictionless), "ball_ball"));
-  world_->set_contact_model(ContactKind::BallFacet,
-                            make_contact_model<RollingLinearLaw>(law_params(config_.ball_facet, frictionless), "ball_facet"));
-  world_->set_contact_model(ContactKind::BallPebble,
-                            make_contact_model<RollingLinearLaw>(law_params(config_.ball_pebble, frictionless), "ball_pebble"));
+                            make_contact_model<RollingLinearLaw>(law_params(config_.ball_ball, friction, rolling_friction), "ball_ball"));
+  auto boundary = [&](const ContactTypeConfig& c) {
+    return growing ? law_params(c, 0.0, 0.0) : law_params(c, c.friction, c.rolling_friction);
+  };
+  world_->set_contact_model(ContactKind::BallFacet, make_contact_model<RollingLinearLaw>(boundary(config_.ball_facet), "ball_facet"));
+  world_->set_contact_model(ContactKind::BallPebble, make_contact_model<RollingLinearLaw>(boundary(config_.ball_pebble), "ball_pebble"));
+}
+
+double SimpleShearTest::plate_gap() const {
+  return (config_.height + world_->wall(top_).displacement.z()) - world_->wall(bottom_).displacement.z();
+}
+
+void SimpleShearTest::control(World& w) {
+  if (servo_) (*servo_)(w);
+  if (generation_floor_) {
+    // While the radii grow, the servo may lift the plate but never lower it below the specimen
+    // height: a plate that chased the stress into the loose half-size balls would pack them at
+    // the bottom of the cavity.
+    FacetWall& top = w.wall(top_);
+    const double room = plate_gap() - config_.height;  // m, >= 0
+    top.velocity.z() = std::max(top.velocity.z(), -room / w.time_step());
+  }
+  move_rings(w);
+}
+
+// docs/model.md 4: with rings.vertical = follow, ring k keeps its fraction s_k = (z_k - z_b) / H
+// of the height between the plates: v_k,z = v_b,z + s_k (v_t,z - v_b,z), so z_k - z_b - s_k H is
+// invariant under the step (both move by v dt). Prescribed rings also interpolate horizontally.
+void SimpleShearTest::move_rings(World& w) const {
+  if (config_.ring_vertical == RingVertical::Fixed) return;
+  const FacetWall& top = w.wall(top_);
+  const FacetWall& bottom = w.wall(bottom_);
+  const double z_bottom = bottom.displacement.z(), gap = plate_gap();
+  const bool prescribed = config_.ring_vertical == RingVertical::Prescribed && stage_ >= ShearStage::Generated;
+  for (Clump& ring : w.clumps()) {
+    const double s = (ring.x.z() - z_bottom) / gap;
+    const Vec3 v = bottom.velocity + s * (top.velocity - bottom.velocity);
+    ring.v.z() = v.z();
+    if (prescribed) ring.v.x() = v.x(), ring.v.y() = v.y();
+  }
+}
+
+void SimpleShearTest::release_rings() {
+  const std::uint8_t fixed = config_.ring_vertical == RingVertical::Prescribed ? dof_all : dof_z | dof_rotation;
+  for (Clump& ring : world_->clumps()) {
+    ring.fixed = fixed;
+    if (config_.ring_vertical == RingVertical::Fixed) ring.v.z() = 0.0;
+  }
 }
 
 void SimpleShearTest::generate() {
@@ -151,8 +212,17 @@ void SimpleShearTest::generate() {
     ids.push_back(world_->add_ball(b));
   }
 
-  // Expansion to full size in stages, frictionless, cycling towards equilibrium in between.
-  set_contact_models(true);
+
+  // Expansion to full size in stages, with the generation friction on the ball-ball contacts
+  // (plates and rings frictionless), cycling towards equilibrium in between. With the servo plate
+  // the specimen grows against a low stress instead of a closed cavity.
+  set_contact_models(config_.generation_friction, config_.generation_rolling_friction, true);
+  if (config_.generation_servo) {
+    ServoSettings servo = servo_settings();
+    servo.target_stress = config_.generation_stress;
+    servo_ = std::make_shared<ServoWall>(top_, servo);
+    generation_floor_ = true;
+  }
   // Each stage grows the radii in small increments (a jump would overlap neighbours by a large
   // fraction of a radius and trip the instability check), then cycles towards equilibrium.
   constexpr int increments = 10;
@@ -173,20 +243,65 @@ void SimpleShearTest::generate() {
     }
     std::ostringstream detail;
     detail << "stage " << stage << "/" << config_.expansion_stages << ", radius x" << factor << ", unbalanced ratio "
-           << world_->unbalanced_force_ratio() << ", top plate " << world_->wall(top_).normal_stress() / 1e3 << " kPa";
+           << world_->unbalanced_force_ratio() << ", top plate " << world_->wall(top_).normal_stress() / 1e3
+           << " kPa, porosity " << specimen_state().porosity;
     log_ << "[generation] " << detail.str() << std::endl;
   }
-  for (Clump& ring : world_->clumps()) ring.fixed = dof_z | dof_rotation;  // rings now follow the sand
-  set_contact_models(false);
+  if (config_.generation_servo) friction_schedule();
+  generation_floor_ = false;
+  generated_state_ = specimen_state();
+  release_rings();
+  set_contact_models(config_.ball_ball.friction, config_.ball_ball.rolling_friction, false);
   stage_ = ShearStage::Generated;
   wall_seconds_ += seconds_since(t0);
-  log_ << "generation done in " << seconds_since(t0) << " s, " << world_->step_count() << " steps\n";
+  log_ << "generation done in " << seconds_since(t0) << " s, " << world_->step_count() << " steps: porosity "
+       << generated_state_.porosity << " (target " << config_.porosity << "), coordination "
+       << generated_state_.coordination_number << ", K0 " << generated_state_.k0 << ", vertical stress "
+       << generated_state_.vertical_stress / 1e3 << " kPa, height " << generated_state_.height * 1e3 << " mm\n";
+  require_no_escape();
+}
+
+// A frictional packing grown against a low stress is looser than the target when its friction
+// holds it open; lowering the friction step by step lets the servo plate settle it, until the
+// porosity is within the tolerance of the target (docs/model.md 7.1). The plate cannot sink below
+// the specimen height, so the porosity never falls below the target's.
+void SimpleShearTest::friction_schedule() {
+  // The plate moves at most servo_max_speed: relaxing a stress built up while the radii grew can
+  // take far more steps than a stage. A few kPa on a loose packing fluctuates by more than the
+  // consolidation tolerance, so settled here means within 10 % of the target, in equilibrium.
+  auto settle = [&] {
+    for (long s = 0; s < std::max(config_.expansion_steps, config_.consolidation_max_steps / 10); s += 100) {
+      world_->step(100);
+      if (world_->unbalanced_force_ratio() < config_.equilibrium_ratio &&
+          std::abs(servo_->achieved_stress() - config_.generation_stress) <= 0.1 * config_.generation_stress)
+        break;
+    }
+  };
+  settle();
+  double mu = friction_now_, mu_r = rolling_friction_now_;
+  const double smallest = 1e-2 * std::max(mu, mu_r);
+  while (specimen_state().porosity > config_.porosity + config_.generation_porosity_tolerance && (mu > 0 || mu_r > 0)) {
+    mu *= config_.generation_friction_reduction;
+    mu_r *= config_.generation_friction_reduction;
+    if (std::max(mu, mu_r) < smallest) mu = mu_r = 0.0;
+    set_contact_models(mu, mu_r, true);
+    settle();
+    log_ << "[generation] friction schedule: mu " << mu << ", mu_r " << mu_r << ", porosity " << specimen_state().porosity
+         << ", top plate " << world_->wall(top_).normal_stress() / 1e3 << " kPa" << std::endl;
+  }
+  const double porosity = specimen_state().porosity;
+  if (porosity > config_.porosity + config_.generation_porosity_tolerance)
+    log_ << "warning: generation ends at porosity " << porosity << ", above specimen.porosity = " << config_.porosity
+         << " + " << config_.generation_porosity_tolerance << " even without friction: spheres of this grading do not pack "
+         << "that densely at generation.stress = " << config_.generation_stress << " Pa\n";
 }
 
 void SimpleShearTest::consolidate() {
   require(stage_ == ShearStage::Generated, "consolidate() stage", static_cast<int>(stage_), "1 (generated)");
   const auto t0 = std::chrono::steady_clock::now();
-  if (!servo_) servo_ = add_servo_wall(*world_, top_, servo_settings());
+  if (!servo_) servo_ = std::make_shared<ServoWall>(top_, servo_settings());
+  servo_->set_target(config_.vertical_stress);
+  servo_->set_max_speed(config_.servo_max_speed);
   const std::int64_t start = world_->step_count();
   bool settled = false;
   while (world_->step_count() - start < config_.consolidation_max_steps) {
@@ -204,10 +319,13 @@ void SimpleShearTest::consolidate() {
   const FacetWall& top = world_->wall(top_);
   const FacetWall& bottom = world_->wall(bottom_);
   consolidated_height_ = (config_.height + top.displacement.z()) - bottom.displacement.z();
+  consolidated_state_ = specimen_state();
   stage_ = ShearStage::Consolidated;
   wall_seconds_ += seconds_since(t0);
   log_ << "consolidation done in " << seconds_since(t0) << " s: H_c = " << consolidated_height_ * 1e3
-       << " mm, vertical stress " << top.normal_stress() / 1e3 << " kPa\n";
+       << " mm, vertical stress " << top.normal_stress() / 1e3 << " kPa, porosity " << consolidated_state_.porosity
+       << ", coordination " << consolidated_state_.coordination_number << ", K0 " << consolidated_state_.k0 << "\n";
+  require_no_escape();
   next_output_strain_ = 0.0;
   record_outputs(true);
   save_restart(out_dir_ / "consolidated.restart");

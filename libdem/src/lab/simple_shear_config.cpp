@@ -1,6 +1,8 @@
 #include <dem/lab/simple_shear_config.hpp>
 
+#include <cmath>
 #include <sstream>
+#include <string>
 
 #include <dem/core/errors.hpp>
 
@@ -43,6 +45,29 @@ ContactTypeConfig contact_from(const io::Config& c, const std::string& section) 
           c.real(section + ".shear_damping_ratio")};
 }
 
+std::string number_text(double v) {
+  std::ostringstream out;
+  out << v;
+  return out.str();
+}
+
+// "frictionless", "ball-ball" (the ball-ball contact's own value) or a number >= 0.
+double friction_choice(const io::Config& c, const std::string& key, double ball_ball_value) {
+  const std::string text = c.text(key);
+  if (text == "frictionless") return 0.0;
+  if (text == "ball-ball") return ball_ball_value;
+  std::size_t used = 0;
+  double value = -1.0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  require(used == text.size() && std::isfinite(value) && value >= 0.0, key, text,
+          "frictionless, ball-ball or a number >= 0");
+  return value;
+}
+
 }  // namespace
 
 io::Schema simple_shear_schema() {
@@ -69,6 +94,11 @@ io::Schema simple_shear_schema() {
   s.add({.key = "rings.pebble_diameter", .default_value = "0", .unit = "m", .help = "ring pebble diameter, 0: the smallest ball diameter", .min = 0.0});
   s.add({.key = "rings.gap", .default_value = "0", .unit = "m", .help = "vertical gap between rings, 0: a tenth of the pebble radius", .min = 0.0});
   s.add({.key = "rings.density", .default_value = "2700", .unit = "kg/m^3", .help = "density of the solid ring the pebbles stand for", .min = 0.0, .min_exclusive = true});
+  s.add({.key = "rings.vertical", .type = ValueType::Text, .default_value = "follow", .unit = "-",
+         .help = "rings once the specimen is made: fixed (held at their heights), follow (each moves vertically with the specimen, its height interpolated between the plates), prescribed (follow, and the horizontal displacement prescribed linear in height: a diagnostic)",
+         .choices = {"fixed", "follow", "prescribed"}});
+  s.add({.key = "rings.stack_height", .default_value = "0", .unit = "m",
+         .help = "height the ring stack covers; 0: the specimen height (1.1 x with rings.vertical = fixed, room for dilation)", .min = 0.0});
   s.add({.key = "engine.local_damping", .default_value = "0.7", .unit = "-", .help = "local non-viscous damping alpha", .min = 0.0, .max = 0.99});
   s.add({.key = "engine.time_step", .default_value = "0", .unit = "s", .help = "time step, 0: automatic from stiffness and mass", .min = 0.0});
   s.add({.key = "engine.time_step_safety", .default_value = "0.8", .unit = "-", .help = "automatic time step = safety x critical estimate", .min = 0.0, .max = 1.0, .min_exclusive = true});
@@ -78,6 +108,16 @@ io::Schema simple_shear_schema() {
   s.add({.key = "generation.stages", .type = ValueType::Integer, .default_value = "8", .unit = "-", .help = "radius expansion stages from half to full size", .min = 1.0, .max = 100.0});
   s.add({.key = "generation.steps_per_stage", .type = ValueType::Integer, .default_value = "3000", .unit = "-", .help = "largest number of steps of one expansion stage", .min = 1.0});
   s.add({.key = "generation.equilibrium_ratio", .default_value = "0.01", .unit = "-", .help = "mean unbalanced over mean contact force that ends a stage early", .min = 0.0, .min_exclusive = true});
+  s.add({.key = "generation.friction", .type = ValueType::Text, .default_value = "ball-ball", .unit = "-",
+         .help = "ball-ball friction while the radii grow: frictionless, ball-ball (the ball_ball.friction value) or a number >= 0"});
+  s.add({.key = "generation.rolling_friction", .type = ValueType::Text, .default_value = "ball-ball", .unit = "-",
+         .help = "ball-ball rolling friction while the radii grow: frictionless, ball-ball (ball_ball.rolling_friction) or a number >= 0"});
+  s.add({.key = "generation.plate", .type = ValueType::Text, .default_value = "servo", .unit = "-",
+         .help = "top plate while the radii grow: fixed (a closed cavity of specimen.height) or servo (held at generation.stress, never below specimen.height; then the friction schedule brings the porosity to specimen.porosity)",
+         .choices = {"fixed", "servo"}});
+  s.add({.key = "generation.stress", .default_value = "5000", .unit = "Pa", .help = "servo stress of the top plate while the radii grow (generation.plate = servo)", .min = 0.0, .min_exclusive = true});
+  s.add({.key = "generation.porosity_tolerance", .default_value = "0.005", .unit = "-", .help = "the friction schedule stops once the porosity is this close to specimen.porosity", .min = 0.0, .max = 0.1, .min_exclusive = true});
+  s.add({.key = "generation.friction_reduction", .default_value = "0.5", .unit = "-", .help = "factor on the generation friction and rolling friction at each step of the friction schedule", .min = 0.0, .max = 1.0, .min_exclusive = true});
   s.add({.key = "consolidation.vertical_stress", .default_value = "200000", .unit = "Pa", .help = "consolidation stress of the top plate", .min = 0.0, .min_exclusive = true});
   s.add({.key = "consolidation.tolerance", .default_value = "0.01", .unit = "-", .help = "relative stress error that counts as on target", .min = 0.0, .max = 0.5, .min_exclusive = true});
   s.add({.key = "consolidation.servo_relaxation", .default_value = "0.5", .unit = "-", .help = "servo alpha_s: fraction of the stress error removed per step", .min = 0.0, .max = 1.0, .min_exclusive = true});
@@ -96,6 +136,8 @@ io::Schema simple_shear_schema() {
   s.add({.key = "shear.inertial_number", .default_value = "0.001", .unit = "-", .help = "quasi-static inertial number that sets the shear rate", .min = 0.0, .max = 0.1, .min_exclusive = true});
   s.add({.key = "shear.strain_rate", .default_value = "0", .unit = "1/s", .help = "shear strain rate, 0: from shear.inertial_number", .min = 0.0});
   s.add({.key = "measure.sphere_radius_ratio", .default_value = "0.8", .unit = "-", .help = "measurement sphere radius over half the height", .min = 0.05, .max = 1.0});
+  s.add({.key = "measure.profile_bins", .type = ValueType::Integer, .default_value = "12", .unit = "-", .help = "height bins of the horizontal displacement profile (uniformity R^2, third strains)", .min = 6.0, .max = 1000.0});
+  s.add({.key = "measure.detection_gap_ratio", .default_value = "0.05", .unit = "-", .help = "gap over the smallest ball diameter below which a ball-ball pair counts as a contact within detection (PFC lists such inactive contacts); at most the Verlet skin, 0.25", .min = 0.0, .max = 0.25});
   s.add({.key = "output.every_strain", .default_value = "0.005", .unit = "-", .help = "shear strain between history rows", .min = 0.0, .min_exclusive = true});
   s.add({.key = "output.fabric_strains", .type = ValueType::RealList, .default_value = "0,0.2,0.4", .unit = "-", .help = "shear strains of rose diagrams (0: after consolidation)", .min = 0.0});
   s.add({.key = "output.snapshot_strains", .type = ValueType::RealList, .default_value = "0,0.2,0.4", .unit = "-", .help = "shear strains of VTK snapshots (0: after consolidation)", .min = 0.0});
@@ -138,6 +180,11 @@ SimpleShearConfig simple_shear_config(const io::Config& c) {
   s.pebble_diameter = c.real("rings.pebble_diameter");
   s.ring_gap = c.real("rings.gap");
   s.ring_density = c.real("rings.density");
+  const std::string vertical = c.text("rings.vertical");
+  s.ring_vertical = vertical == "fixed" ? RingVertical::Fixed : vertical == "follow" ? RingVertical::Follow : RingVertical::Prescribed;
+  s.ring_stack_height = c.real("rings.stack_height");
+  require(s.ring_stack_height == 0.0 || s.ring_stack_height >= c.real("specimen.height"), "rings.stack_height",
+          s.ring_stack_height, "0 or at least specimen.height (" + number_text(c.real("specimen.height")) + " m)");
   s.local_damping = c.real("engine.local_damping");
   s.time_step = c.real("engine.time_step");
   s.time_step_safety = c.real("engine.time_step_safety");
@@ -146,6 +193,12 @@ SimpleShearConfig simple_shear_config(const io::Config& c) {
   s.expansion_stages = static_cast<int>(c.integer("generation.stages"));
   s.expansion_steps = c.integer("generation.steps_per_stage");
   s.equilibrium_ratio = c.real("generation.equilibrium_ratio");
+  s.generation_friction = friction_choice(c, "generation.friction", s.ball_ball.friction);
+  s.generation_rolling_friction = friction_choice(c, "generation.rolling_friction", s.ball_ball.rolling_friction);
+  s.generation_servo = c.text("generation.plate") == "servo";
+  s.generation_stress = c.real("generation.stress");
+  s.generation_porosity_tolerance = c.real("generation.porosity_tolerance");
+  s.generation_friction_reduction = c.real("generation.friction_reduction");
   s.vertical_stress = c.real("consolidation.vertical_stress");
   s.stress_tolerance = c.real("consolidation.tolerance");
   s.servo_relaxation = c.real("consolidation.servo_relaxation");
@@ -170,6 +223,8 @@ SimpleShearConfig simple_shear_config(const io::Config& c) {
   s.inertial_number = c.real("shear.inertial_number");
   s.strain_rate = c.real("shear.strain_rate");
   s.probe_radius_ratio = c.real("measure.sphere_radius_ratio");
+  s.profile_bins = static_cast<int>(c.integer("measure.profile_bins"));
+  s.detection_gap_ratio = c.real("measure.detection_gap_ratio");
   s.output_every_strain = c.real("output.every_strain");
   s.fabric_strains = c.real_list("output.fabric_strains");
   s.snapshot_strains = c.real_list("output.snapshot_strains");

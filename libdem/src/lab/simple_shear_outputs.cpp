@@ -1,6 +1,7 @@
 // Measurements, outputs and restart files of the simple-shear protocol.
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -13,6 +14,7 @@
 #include <dem/lab/fabric_log.hpp>
 #include <dem/lab/simple_shear.hpp>
 #include <dem/lab/snapshots.hpp>
+#include <dem/measure/shear_uniformity.hpp>
 
 namespace dem::lab {
 
@@ -99,6 +101,11 @@ ShearState SimpleShearTest::measure() const {
   s.contacts = contacts;
   s.mean_contact_force = contacts > 0 ? mean_force / static_cast<double>(contacts) : 0.0;
   s.kinetic_energy = w.kinetic_energy();
+  double solid = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (!p.is_pebble(i)) solid += 4.0 / 3.0 * pi * p.radius[i] * p.radius[i] * p.radius[i];
+  s.specimen_porosity = 1.0 - solid / (area_ * s.height);
+  s.balls_outside = balls_outside();
 
   // The probe sits at mid-height and follows the specimen's mean horizontal displacement.
   MeasurementSphere sphere;
@@ -117,19 +124,38 @@ ShearState SimpleShearTest::measure() const {
   return s;
 }
 
+SpecimenState SimpleShearTest::specimen_state() const {
+  const ShearState s = measure();
+  SpecimenState out;
+  out.porosity = s.specimen_porosity;
+  out.sphere_porosity = s.sphere.porosity;
+  out.coordination_number = s.sphere.coordination_number;
+  out.mechanical_coordination_number = s.sphere.mechanical_coordination_number;
+  out.vertical_stress = s.vertical_stress;
+  out.k0 = s.vertical_stress > 0 ? s.lateral_stress / s.vertical_stress : 0.0;
+  out.height = s.height;
+  out.friction = friction_now_;
+  out.rolling_friction = rolling_friction_now_;
+  return out;
+}
+
 void SimpleShearTest::record_history() {
   const ShearState s = measure();
   const Mat3 c = -s.sphere.stress;  // compression positive
   const Vec3 d = leg_direction(std::min(leg_, config_.legs.size() - 1));
-  history_.add_row({s.time, static_cast<double>(world_->step_count()), static_cast<double>(stage_), s.shear_strain_x,
+  std::vector<double> row = {s.time, static_cast<double>(world_->step_count()), static_cast<double>(stage_), s.shear_strain_x,
                     s.shear_strain_y, s.shear_strain, s.shear_stress_x, s.shear_stress_y, s.shear_stress,
                     s.shear_stress_bottom, s.vertical_stress, s.vertical_stress_bottom, s.height, s.volumetric_strain,
                     s.lateral_stress, s.vertical_stress > 0 ? s.lateral_stress / s.vertical_stress : 0.0,
                     s.sphere.principal.sigma_1, s.sphere.principal.sigma_2, s.sphere.principal.sigma_3,
                     s.principal_rotation_deg, c(0, 0), c(1, 1), c(2, 2), c(0, 1), c(0, 2), c(1, 2),
                     d.dot(c * Vec3::UnitZ()), s.sphere.coordination_number, static_cast<double>(s.contacts),
-                    s.mean_contact_force, s.sphere.porosity, s.kinetic_energy, stage_ >= ShearStage::Consolidated ? inertial_number() : 0.0});
+                    s.mean_contact_force, s.sphere.porosity, s.kinetic_energy, stage_ >= ShearStage::Consolidated ? inertial_number() : 0.0};
+  const std::vector<double> more = uniformity_columns(s);
+  row.insert(row.end(), more.begin(), more.end());
+  history_.add_row(row);
   history_.save(out_dir_ / "history.csv");
+  require_no_escape();  // after the row: it shows the state in which the ball was lost
 }
 
 void SimpleShearTest::record_outputs(bool force) {
@@ -165,15 +191,41 @@ std::string SimpleShearTest::protocol_state() const {
       << "\nprevious_relative_y " << previous_relative_.y() << "\nwall_seconds " << wall_seconds_
       << "\nsteps_at_shear_start " << steps_at_shear_start_ << "\nhistory_rows " << history_.rows().size()
       << "\nservo " << (servo_ ? 1 : 0) << "\nservo_holding " << (servo_ && servo_->holding_position() ? 1 : 0) << "\n";
+  out << "profile_bottom_x " << profile_bottom_.x() << "\nprofile_bottom_y " << profile_bottom_.y() << "\nprofile_bottom_z "
+      << profile_bottom_.z() << "\nprofile_top_x " << profile_top_.x() << "\nprofile_top_y " << profile_top_.y()
+      << "\nprofile_top_z " << profile_top_.z() << "\n";
+  for (const auto& [name, state] : {std::pair{"generated", &generated_state_}, std::pair{"consolidated", &consolidated_state_}})
+    out << name << "_porosity " << state->porosity << "\n" << name << "_sphere_porosity " << state->sphere_porosity << "\n"
+        << name << "_coordination " << state->coordination_number << "\n" << name << "_mechanical_coordination "
+        << state->mechanical_coordination_number << "\n" << name << "_vertical_stress " << state->vertical_stress << "\n"
+        << name << "_k0 " << state->k0 << "\n" << name << "_height " << state->height << "\n" << name << "_friction "
+        << state->friction << "\n" << name << "_rolling_friction " << state->rolling_friction << "\n";
+  // Last: the positions that start the current profile interval, one line per ball id.
+  out << "profile_reference " << profile_reference_.size() << "\n";
+  for (const Vec3& x : profile_reference_) out << x.x() << " " << x.y() << " " << x.z() << "\n";
   return out.str();
 }
 
 void SimpleShearTest::restore_protocol_state(const std::string& text) {
   std::map<std::string, double> v;
   std::istringstream in(text);
-  std::string key;
-  double value;
-  while (in >> key >> value) v[key] = value;
+  std::string key, token;
+  profile_reference_.clear();
+  while (in >> key >> token) {
+    const double value = std::strtod(token.c_str(), nullptr);  // "nan" too: states of older runs
+    if (key == "profile_reference") {  // a count, then that many positions
+      require(value >= 0 && value <= 1e9, "restart file: profile_reference count", value, "a count of balls");
+      profile_reference_.resize(static_cast<std::size_t>(value));
+      for (Vec3& x : profile_reference_) {
+        std::string a, b, c;  // "nan" for the ids of pebbles
+        in >> a >> b >> c;
+        require(static_cast<bool>(in), "restart file: profile_reference", "(truncated)", "one position per ball id");
+        x = Vec3(std::strtod(a.c_str(), nullptr), std::strtod(b.c_str(), nullptr), std::strtod(c.c_str(), nullptr));
+      }
+      continue;
+    }
+    v[key] = value;
+  }
   auto get = [&](const std::string& k) {
     const auto it = v.find(k);
     if (it == v.end()) throw InputError("restart file: protocol state has no '" + k + "'");
@@ -193,18 +245,33 @@ void SimpleShearTest::restore_protocol_state(const std::string& text) {
   previous_relative_ = Vec3(get("previous_relative_x"), get("previous_relative_y"), 0.0);
   wall_seconds_ = get("wall_seconds");
   steps_at_shear_start_ = static_cast<std::int64_t>(get("steps_at_shear_start"));
+  if (v.count("profile_bottom_x")) {
+    profile_bottom_ = Vec3(get("profile_bottom_x"), get("profile_bottom_y"), get("profile_bottom_z"));
+    profile_top_ = Vec3(get("profile_top_x"), get("profile_top_y"), get("profile_top_z"));
+  }
+  // Files written before these were recorded leave them NaN.
+  auto optional = [&](const std::string& k) {
+    const auto it = v.find(k);
+    return it == v.end() ? std::numeric_limits<double>::quiet_NaN() : it->second;
+  };
+  for (const auto& [name, state] : {std::pair{"generated", &generated_state_}, std::pair{"consolidated", &consolidated_state_}}) {
+    const std::string n = name;
+    *state = {optional(n + "_porosity"), optional(n + "_sphere_porosity"), optional(n + "_coordination"),
+              optional(n + "_mechanical_coordination"), optional(n + "_vertical_stress"), optional(n + "_k0"),
+              optional(n + "_height"), optional(n + "_friction"), optional(n + "_rolling_friction")};
+  }
   const auto rows = static_cast<std::size_t>(get("history_rows"));
   // Keep the history written up to the restart point; later rows belong to the run that stopped.
-  history_ = io::CsvTable(history_.columns());
+  history_ = io::CsvTable(history_.columns(), io::Missing::Allowed);
   if (rows > 0) {
-    const io::CsvData old = io::read_csv(out_dir_ / "history.csv");
+    const io::CsvData old = io::read_csv(out_dir_ / "history.csv", io::Missing::Allowed);
     require(old.rows.size() >= rows, "history.csv rows", old.rows.size(), ">= " + std::to_string(rows) + " (as in the restart file)");
     for (std::size_t r = 0; r < rows; ++r) history_.add_row(old.rows[r]);
   }
   fabric_->resume(next_fabric_);
   snapshots_->resume(next_snapshot_);
   if (get("servo") > 0) {
-    servo_ = add_servo_wall(*world_, top_, servo_settings());
+    servo_ = std::make_shared<ServoWall>(top_, servo_settings());
     servo_->hold_position(get("servo_holding") > 0);
   }
 }
@@ -238,16 +305,16 @@ void SimpleShearTest::require_configured_grading(const std::filesystem::path& fi
 
 void SimpleShearTest::load_restart(const std::filesystem::path& file) {
   build_world();  // walls, rings and contact models as configured; the file supplies the state
-  servo_.reset();
+  const World as_configured = *world_;
   const std::string protocol = io::load_checkpoint(file, *world_);
   require_configured_grading(file);  // before anything is copied into this run's folder
+  apply_restart_keys(as_configured, file);
   // A restart from another folder (a second shear of one consolidated specimen) brings the
   // outputs written up to it, which the restored protocol continues.
   const std::filesystem::path source = std::filesystem::absolute(file).parent_path();
   if (!same_folder(source, out_dir_)) copy_run_files(source, out_dir_);
   restore_protocol_state(protocol);
-  // The configuration's limit, not the one of the run that wrote the file (older files hold 0.5).
-  world_->set_max_overlap_ratio(config_.max_overlap_ratio);
+  if (stage_ >= ShearStage::Generated) release_rings();  // rings.vertical from this configuration
   log_ << "resumed from " << file.string() << " at step " << world_->step_count() << ", time step " << world_->time_step()
        << " s (stage " << static_cast<int>(stage_) << ", shear strain " << path_strain_ << ")\n";
 }
@@ -273,7 +340,7 @@ void SimpleShearTest::write_summary(const std::string& resolved_config_json) con
   }
   // Peak and final values from the history.
   const auto& rows = history_.rows();
-  auto col = [&](const char* name) { return history_.column_index(name); };
+  auto col = [&](const std::string& name) { return history_.column_index(name); };
   if (!rows.empty()) {
     std::size_t peak = 0;
     double peak_ratio = -1;
@@ -299,6 +366,63 @@ void SimpleShearTest::write_summary(const std::string& resolved_config_json) con
                              "coordination_number", "sigma_1", "sigma_3"})
       c[name] = first[col(name)];
     j["after_consolidation"] = c;
+  }
+  for (const auto& [name, state] : {std::pair{"specimen_generated", &generated_state_}, std::pair{"specimen_consolidated", &consolidated_state_}}) {
+    if (stage_ < (state == &generated_state_ ? ShearStage::Generated : ShearStage::Consolidated)) continue;
+    io::Json g;
+    g["porosity"] = state->porosity;
+    g["sphere_porosity"] = state->sphere_porosity;
+    g["coordination_number"] = state->coordination_number;
+    g["mechanical_coordination_number"] = state->mechanical_coordination_number;
+    g["vertical_stress_Pa"] = state->vertical_stress;
+    g["k0"] = state->k0;
+    g["height_m"] = state->height;
+    g["ball_ball_friction"] = state->friction;
+    g["ball_ball_rolling_friction"] = state->rolling_friction;
+    j[name] = g;
+  }
+  // Uniformity of the profile summed over the rows from 20 to 40 % strain (the span of the study's
+  // Fig. 7), against uniform simple shear with the top held (docs/model.md 8.1).
+  if (!rows.empty() && consolidated_height_ > 0) {
+    const double from = 0.2, to = 0.4;
+    std::vector<double> summed(static_cast<std::size_t>(config_.profile_bins), 0.0);
+    double strain_from = -1, strain_to = -1;
+    bool complete = true;
+    for (std::size_t r = 1; r < rows.size(); ++r) {
+      const double strain = rows[r][col("shear_strain")];
+      if (strain <= from + 1e-9 || strain > to + 1e-9) continue;
+      if (strain_from < 0) strain_from = rows[r - 1][col("shear_strain")];
+      strain_to = strain;
+      for (int b = 0; b < config_.profile_bins; ++b) {
+        const double u = rows[r][col("profile_u_" + std::to_string(b + 1))];
+        if (std::isnan(u)) complete = false;
+        summed[static_cast<std::size_t>(b)] += u;
+      }
+    }
+    if (strain_to > strain_from && strain_from >= 0) {
+      measure::DisplacementProfile profile;
+      const double height = rows.back()[col("height")];
+      for (int b = 0; b < config_.profile_bins; ++b) {
+        const double z = (b + 0.5) * height / config_.profile_bins;
+        profile.z_centre.push_back(z);
+        profile.z_mean.push_back(z);
+        const double u = summed[static_cast<std::size_t>(b)];
+        profile.mean_displacement.push_back(u);  // NaN where a bin had no ball at some row
+        profile.count.push_back(std::isnan(u) ? 0 : 1);
+      }
+      const double u_bottom = (strain_to - strain_from) * consolidated_height_;
+      const measure::ShearUniformity uniformity = measure::shear_uniformity(profile, 0.0, height, u_bottom, 0.0);
+      io::Json u;
+      u["from_shear_strain"] = strain_from;
+      u["to_shear_strain"] = strain_to;
+      u["profile_r2"] = uniformity.r_squared;
+      u["strain_bottom_third"] = uniformity.bottom_third_strain;
+      u["strain_middle_third"] = uniformity.middle_third_strain;
+      u["strain_top_third"] = uniformity.top_third_strain;
+      u["top_bottom_strain_ratio"] = uniformity.top_bottom_strain_ratio;
+      u["every_bin_has_balls"] = complete;
+      j["uniformity"] = u;
+    }
   }
   j["steps"] = static_cast<double>(world_->step_count());
   j["wall_clock_s"] = wall_seconds_;

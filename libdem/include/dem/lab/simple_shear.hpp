@@ -53,6 +53,20 @@ struct ShearState {
   std::size_t contacts = 0;                           // ball-ball contacts
   double mean_contact_force = 0;                      // N, ball-ball
   double kinetic_energy = 0;                          // J
+  double specimen_porosity = 0;                       // -, 1 - ball volume / (area x height)
+  std::size_t balls_outside = 0;                      // ball centres beyond the rings or the plates
+};
+
+/// The specimen when its radii have grown (generation) or it has settled (consolidation).
+struct SpecimenState {
+  double porosity = 0;             // -, 1 - ball volume / (area x height), overlaps ignored
+  double sphere_porosity = 0;      // -, measurement sphere
+  double coordination_number = 0;  // -, measurement sphere, boundary contacts included
+  double mechanical_coordination_number = 0;  // -, rattlers out
+  double vertical_stress = 0;      // Pa, top plate
+  double k0 = 0;                   // -, ring lateral stress / vertical stress
+  double height = 0;               // m
+  double friction = 0, rolling_friction = 0;  // -, ball-ball at that moment
 };
 
 class SimpleShearTest {
@@ -88,6 +102,13 @@ class SimpleShearTest {
 
   /// The current state, measured now.
   ShearState measure() const;
+  /// Porosity, coordination, K0 and height now, with the ball-ball friction in use.
+  SpecimenState specimen_state() const;
+  const SpecimenState& generated_state() const { return generated_state_; }
+  const SpecimenState& consolidated_state() const { return consolidated_state_; }
+  /// Balls whose centre has left the specimen: beyond the inner radius of the ring at its height
+  /// plus a pebble radius, or beyond a plate. Each history row counts them; any stops the run.
+  std::size_t balls_outside() const;
   /// summary.json: counts, porosity, ASTM D6528 ratios, peak and final values, timing.
   void write_summary(const std::string& resolved_config_json) const;
 
@@ -103,8 +124,20 @@ class SimpleShearTest {
 
  private:
   void build_world();
-  void set_contact_models(bool frictionless);
+  /// Ball-ball with the given friction (the plates and rings frictionless while `growing`).
+  void set_contact_models(double friction, double rolling_friction, bool growing);
+  /// The one controller of the protocol, every step: the servo, the generation floor of the top
+  /// plate, then the ring kinematics (rings.vertical), which read the plate velocities just set.
+  void control(World& world);
+  void move_rings(World& world) const;
+  void release_rings();
+  void friction_schedule();
+  void require_no_escape() const;
+  void apply_restart_keys(const World& as_configured, const std::filesystem::path& file);
+  double plate_gap() const;  // m, top minus bottom plate height
   void record_history();
+  /// The history columns past ShearState's: uniformity, layers, non-coaxiality, rings.
+  std::vector<double> uniformity_columns(const ShearState& s);
   void record_outputs(bool force);
   void maybe_save_restart();
   void progress(const std::string& stage, const std::string& detail) const;
@@ -122,6 +155,14 @@ class SimpleShearTest {
   std::ostream& log_;
   std::unique_ptr<World> world_;
   std::shared_ptr<ServoWall> servo_;
+  bool generation_floor_ = false;      // the top plate may not sink below specimen.height
+  double pebble_radius_ = 0.0;         // m
+  double friction_now_ = 0.0, rolling_friction_now_ = 0.0;  // ball-ball, as set
+  SpecimenState generated_state_, consolidated_state_;
+  // Positions at the last history row (by ball id; pebbles NaN) and the plates' displacements
+  // then: the start of the interval of the displacement profile. Empty before the first row.
+  std::vector<Vec3> profile_reference_;
+  Vec3 profile_bottom_ = Vec3::Zero(), profile_top_ = Vec3::Zero();
   WallId bottom_ = -1, top_ = -1;
   std::unique_ptr<FabricLog> fabric_;
   std::unique_ptr<SnapshotWriter> snapshots_;

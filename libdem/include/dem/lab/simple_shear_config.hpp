@@ -32,6 +32,13 @@ struct ShearLeg {
   double strain = 0.0;         // -, shear strain increment of this leg
 };
 
+/// How the rings move vertically once the specimen is made (docs/model.md 4).
+enum class RingVertical {
+  Fixed,       ///< held at their generation heights
+  Follow,      ///< each ring moves with the specimen: its height interpolated between the plates
+  Prescribed,  ///< follow, and the horizontal displacement is prescribed linear in height (diagnostic)
+};
+
 struct SimpleShearConfig {
   // specimen
   double diameter = 0.070;   // m
@@ -46,6 +53,8 @@ struct SimpleShearConfig {
   double pebble_diameter = 0.0;  // m, 0: the smallest ball diameter
   double ring_gap = 0.0;         // m, vertical gap between rings, 0: a tenth of the pebble radius
   double ring_density = 2700.0;  // kg/m^3
+  RingVertical ring_vertical = RingVertical::Follow;
+  double ring_stack_height = 0.0; // m, 0: the specimen height (1.1 x with fixed rings)
   // engine
   double local_damping = 0.7;    // -
   double time_step = 0.0;        // s, 0: automatic
@@ -56,6 +65,12 @@ struct SimpleShearConfig {
   int expansion_stages = 8;
   long expansion_steps = 3000;          // steps per stage
   double equilibrium_ratio = 1e-2;      // -, mean unbalanced / mean contact force that ends a stage
+  double generation_friction = 0.0;     // -, ball-ball mu while the radii grow
+  double generation_rolling_friction = 0.0;  // -, ball-ball mu_r while the radii grow
+  bool generation_servo = false;        // false: a fixed cavity; true: top plate servo-held at generation_stress
+  double generation_stress = 5e3;       // Pa, servo target of the top plate while the radii grow
+  double generation_porosity_tolerance = 0.005;  // -, the friction schedule ends within this of the target
+  double generation_friction_reduction = 0.5;    // -, factor on the generation friction per schedule step
   // consolidation
   double vertical_stress = 200e3;       // Pa
   double stress_tolerance = 0.01;       // -, relative
@@ -71,6 +86,8 @@ struct SimpleShearConfig {
   double strain_rate = 0.0;             // 1/s, 0: from inertial_number
   // measurement and output
   double probe_radius_ratio = 0.8;      // -, measurement sphere radius / (H/2)
+  int profile_bins = 12;                // height bins of the displacement profile
+  double detection_gap_ratio = 0.05;    // -, gap / smallest ball diameter of a contact within detection
   double output_every_strain = 0.005;   // -, history row interval
   std::vector<double> fabric_strains{0.0, 0.2, 0.4};
   std::vector<double> snapshot_strains{0.0, 0.2, 0.4};
