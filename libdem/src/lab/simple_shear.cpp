@@ -220,6 +220,7 @@ void SimpleShearTest::generate() {
   if (config_.generation_servo) {
     ServoSettings servo = servo_settings();
     servo.target_stress = config_.generation_stress;
+    servo.max_speed = config_.generation_servo_max_speed;
     servo_ = std::make_shared<ServoWall>(top_, servo);
     generation_floor_ = true;
   }
@@ -266,11 +267,10 @@ void SimpleShearTest::generate() {
 // porosity is within the tolerance of the target (docs/model.md 7.1). The plate cannot sink below
 // the specimen height, so the porosity never falls below the target's.
 void SimpleShearTest::friction_schedule() {
-  // The plate moves at most servo_max_speed: relaxing a stress built up while the radii grew can
-  // take far more steps than a stage. A few kPa on a loose packing fluctuates by more than the
-  // consolidation tolerance, so settled here means within 10 % of the target, in equilibrium.
+  // A few kPa on a loose packing fluctuates by more than the consolidation tolerance, so settled
+  // here means in equilibrium with the plate stress within 10 % of its target.
   auto settle = [&] {
-    for (long s = 0; s < std::max(config_.expansion_steps, config_.consolidation_max_steps / 10); s += 100) {
+    for (long s = 0; s < config_.expansion_steps; s += 100) {
       world_->step(100);
       if (world_->unbalanced_force_ratio() < config_.equilibrium_ratio &&
           std::abs(servo_->achieved_stress() - config_.generation_stress) <= 0.1 * config_.generation_stress)

@@ -116,6 +116,7 @@ io::Schema simple_shear_schema() {
          .help = "top plate while the radii grow: fixed (a closed cavity of specimen.height) or servo (held at generation.stress, never below specimen.height; then the friction schedule brings the porosity to specimen.porosity)",
          .choices = {"fixed", "servo"}});
   s.add({.key = "generation.stress", .default_value = "5000", .unit = "Pa", .help = "servo stress of the top plate while the radii grow (generation.plate = servo)", .min = 0.0, .min_exclusive = true});
+  s.add({.key = "generation.servo_max_speed", .default_value = "1", .unit = "m/s", .help = "speed cap of the servo plate while the radii grow: it must rise as fast as the specimen grows (about 3 H x the radius growth rate)", .min = 0.0, .min_exclusive = true});
   s.add({.key = "generation.porosity_tolerance", .default_value = "0.005", .unit = "-", .help = "the friction schedule stops once the porosity is this close to specimen.porosity", .min = 0.0, .max = 0.1, .min_exclusive = true});
   s.add({.key = "generation.friction_reduction", .default_value = "0.5", .unit = "-", .help = "factor on the generation friction and rolling friction at each step of the friction schedule", .min = 0.0, .max = 1.0, .min_exclusive = true});
   s.add({.key = "consolidation.vertical_stress", .default_value = "200000", .unit = "Pa", .help = "consolidation stress of the top plate", .min = 0.0, .min_exclusive = true});
@@ -151,12 +152,16 @@ io::Schema simple_shear_schema() {
 
 std::vector<std::pair<std::string, std::string>> preset_values(const std::string& preset) {
   // The study's Table 1: ball-ball E*, mu, mu_r per size scale; plates and rings are the same in all.
-  if (preset == "1D")
-    return {{"grading.scale", "1"}, {"ball_ball.effective_modulus", "5.3e7"}, {"ball_ball.friction", "0.45"}, {"ball_ball.rolling_friction", "0.18"}};
-  if (preset == "2D")
-    return {{"grading.scale", "2"}, {"ball_ball.effective_modulus", "4.4e7"}, {"ball_ball.friction", "0.5"}, {"ball_ball.rolling_friction", "0.17"}};
-  if (preset == "4D")
-    return {{"grading.scale", "4"}, {"ball_ball.effective_modulus", "1.2e7"}, {"ball_ball.friction", "0.5"}, {"ball_ball.rolling_friction", "0.4"}};
+  // The generation friction is the same number, not "ball-ball": a calibration that varies the
+  // ball-ball friction must keep making the same specimen.
+  auto scale = [](const char* s, const char* e, const char* mu, const char* mu_r) {
+    return std::vector<std::pair<std::string, std::string>>{
+        {"grading.scale", s},        {"ball_ball.effective_modulus", e}, {"ball_ball.friction", mu},
+        {"ball_ball.rolling_friction", mu_r}, {"generation.friction", mu}, {"generation.rolling_friction", mu_r}};
+  };
+  if (preset == "1D") return scale("1", "5.3e7", "0.45", "0.18");
+  if (preset == "2D") return scale("2", "4.4e7", "0.5", "0.17");
+  if (preset == "4D") return scale("4", "1.2e7", "0.5", "0.4");
   throw InputError("--preset = " + preset + ": must be one of 1D, 2D, 4D");
 }
 
@@ -197,6 +202,7 @@ SimpleShearConfig simple_shear_config(const io::Config& c) {
   s.generation_rolling_friction = friction_choice(c, "generation.rolling_friction", s.ball_ball.rolling_friction);
   s.generation_servo = c.text("generation.plate") == "servo";
   s.generation_stress = c.real("generation.stress");
+  s.generation_servo_max_speed = c.real("generation.servo_max_speed");
   s.generation_porosity_tolerance = c.real("generation.porosity_tolerance");
   s.generation_friction_reduction = c.real("generation.friction_reduction");
   s.vertical_stress = c.real("consolidation.vertical_stress");

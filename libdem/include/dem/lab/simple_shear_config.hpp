@@ -69,6 +69,7 @@ struct SimpleShearConfig {
   double generation_rolling_friction = 0.0;  // -, ball-ball mu_r while the radii grow
   bool generation_servo = false;        // false: a fixed cavity; true: top plate servo-held at generation_stress
   double generation_stress = 5e3;       // Pa, servo target of the top plate while the radii grow
+  double generation_servo_max_speed = 1.0;  // m/s, speed cap of that plate (it must keep up with the growth)
   double generation_porosity_tolerance = 0.005;  // -, the friction schedule ends within this of the target
   double generation_friction_reduction = 0.5;    // -, factor on the generation friction per schedule step
   // consolidation
