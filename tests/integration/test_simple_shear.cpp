@@ -145,6 +145,11 @@ TEST_CASE("simple shear: the servo plate keeps up with a dilating specimen", "[s
   auto largest_error = [](const std::string& shear_cap) {
     io::Config c = small_config();
     c.set("shear.target_strain", "0.12");
+    // A dense specimen (frictionless expansion in a closed cavity), which dilates strongly.
+    c.set("specimen.porosity", "0.37");
+    c.set("generation.plate", "fixed");
+    c.set("generation.friction", "frictionless");
+    c.set("generation.rolling_friction", "frictionless");
     c.set("output.fabric_strains", "");
     c.set("output.snapshot_strains", "");
     c.set("consolidation.servo_max_speed", "0.001");

@@ -135,6 +135,8 @@ void SimpleShearTest::control(World& w) {
 // invariant under the step (both move by v dt). Prescribed rings also interpolate horizontally.
 void SimpleShearTest::move_rings(World& w) const {
   if (config_.ring_vertical == RingVertical::Fixed) return;
+  // Free rings follow the plates only while the specimen is made; then the sand carries them.
+  if (config_.ring_vertical == RingVertical::Free && stage_ >= ShearStage::Generated) return;
   const FacetWall& top = w.wall(top_);
   const FacetWall& bottom = w.wall(bottom_);
   const double z_bottom = bottom.displacement.z(), gap = plate_gap();
@@ -148,7 +150,9 @@ void SimpleShearTest::move_rings(World& w) const {
 }
 
 void SimpleShearTest::release_rings() {
-  const std::uint8_t fixed = config_.ring_vertical == RingVertical::Prescribed ? dof_all : dof_z | dof_rotation;
+  const std::uint8_t fixed = config_.ring_vertical == RingVertical::Prescribed ? dof_all
+                             : config_.ring_vertical == RingVertical::Free     ? dof_rotation
+                                                                               : dof_z | dof_rotation;
   for (Clump& ring : world_->clumps()) {
     ring.fixed = fixed;
     if (config_.ring_vertical == RingVertical::Fixed) ring.v.z() = 0.0;
@@ -291,9 +295,10 @@ void SimpleShearTest::friction_schedule() {
   }
   const double porosity = specimen_state().porosity;
   if (porosity > config_.porosity + config_.generation_porosity_tolerance)
-    log_ << "warning: generation ends at porosity " << porosity << ", above specimen.porosity = " << config_.porosity
-         << " + " << config_.generation_porosity_tolerance << " even without friction: spheres of this grading do not pack "
-         << "that densely at generation.stress = " << config_.generation_stress << " Pa\n";
+    log_ << "note: the friction schedule reached zero friction at porosity " << porosity << ", above specimen.porosity = "
+         << config_.porosity << " + " << config_.generation_porosity_tolerance << ": spheres of this grading settle no denser "
+         << "at generation.stress = " << config_.generation_stress << " Pa within generation.steps_per_stage = "
+         << config_.expansion_steps << " steps per schedule step; consolidation densifies the specimen further\n";
 }
 
 void SimpleShearTest::consolidate() {

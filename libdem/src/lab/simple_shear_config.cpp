@@ -75,7 +75,7 @@ io::Schema simple_shear_schema() {
   const SimpleShearConfig d;
   s.add({.key = "specimen.diameter", .default_value = "0.07", .unit = "m", .help = "specimen diameter", .min = 0.0, .min_exclusive = true});
   s.add({.key = "specimen.height", .default_value = "0.022", .unit = "m", .help = "specimen height before consolidation", .min = 0.0, .min_exclusive = true});
-  s.add({.key = "specimen.porosity", .default_value = "0.37", .unit = "-", .help = "porosity of the radius expansion", .min = 0.2, .max = 0.8});
+  s.add({.key = "specimen.porosity", .default_value = "0.4", .unit = "-", .help = "target porosity of the generation; sets the ball count (the study's 0.37 is denser than spheres with friction pack at a low stress: docs/size-effect.md)", .min = 0.2, .max = 0.8});
   s.add({.key = "specimen.density", .default_value = "2650", .unit = "kg/m^3", .help = "particle density", .min = 0.0, .min_exclusive = true});
   s.add({.key = "specimen.seed", .type = ValueType::Integer, .default_value = "1", .unit = "-", .help = "random seed of the generation", .min = 0.0});
   s.add({.key = "grading.sampling", .type = ValueType::Text, .default_value = "number-uniform", .unit = "-",
@@ -95,8 +95,8 @@ io::Schema simple_shear_schema() {
   s.add({.key = "rings.gap", .default_value = "0", .unit = "m", .help = "vertical gap between rings, 0: a tenth of the pebble radius", .min = 0.0});
   s.add({.key = "rings.density", .default_value = "2700", .unit = "kg/m^3", .help = "density of the solid ring the pebbles stand for", .min = 0.0, .min_exclusive = true});
   s.add({.key = "rings.vertical", .type = ValueType::Text, .default_value = "follow", .unit = "-",
-         .help = "rings once the specimen is made: fixed (held at their heights), follow (each moves vertically with the specimen, its height interpolated between the plates), prescribed (follow, and the horizontal displacement prescribed linear in height: a diagnostic)",
-         .choices = {"fixed", "follow", "prescribed"}});
+         .help = "rings once the specimen is made: fixed (held at their heights), follow (each moves vertically with the specimen, its height interpolated between the plates), prescribed (follow, and the horizontal displacement prescribed linear in height: a diagnostic), free (free vertically too: each ring is carried by the sand beside it)",
+         .choices = {"fixed", "follow", "prescribed", "free"}});
   s.add({.key = "rings.stack_height", .default_value = "0", .unit = "m",
          .help = "height the ring stack covers; 0: the specimen height (1.1 x with rings.vertical = fixed, room for dilation)", .min = 0.0});
   s.add({.key = "engine.local_damping", .default_value = "0.7", .unit = "-", .help = "local non-viscous damping alpha", .min = 0.0, .max = 0.99});
@@ -186,7 +186,10 @@ SimpleShearConfig simple_shear_config(const io::Config& c) {
   s.ring_gap = c.real("rings.gap");
   s.ring_density = c.real("rings.density");
   const std::string vertical = c.text("rings.vertical");
-  s.ring_vertical = vertical == "fixed" ? RingVertical::Fixed : vertical == "follow" ? RingVertical::Follow : RingVertical::Prescribed;
+  s.ring_vertical = vertical == "fixed"    ? RingVertical::Fixed
+                    : vertical == "follow" ? RingVertical::Follow
+                    : vertical == "free"   ? RingVertical::Free
+                                           : RingVertical::Prescribed;
   s.ring_stack_height = c.real("rings.stack_height");
   require(s.ring_stack_height == 0.0 || s.ring_stack_height >= c.real("specimen.height"), "rings.stack_height",
           s.ring_stack_height, "0 or at least specimen.height (" + number_text(c.real("specimen.height")) + " m)");

@@ -37,13 +37,14 @@ enum class RingVertical {
   Fixed,       ///< held at their generation heights
   Follow,      ///< each ring moves with the specimen: its height interpolated between the plates
   Prescribed,  ///< follow, and the horizontal displacement is prescribed linear in height (diagnostic)
+  Free,        ///< free in z too: each ring rides on the sand next to it, no vertical side friction on balance
 };
 
 struct SimpleShearConfig {
   // specimen
   double diameter = 0.070;   // m
   double height = 0.022;     // m
-  double porosity = 0.37;    // -, target of the radius expansion
+  double porosity = 0.40;    // -, target of the generation (sets the ball count)
   double density = 2650.0;   // kg/m^3, particle density
   std::uint64_t seed = 1;
   Grading grading;
