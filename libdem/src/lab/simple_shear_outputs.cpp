@@ -390,7 +390,9 @@ void SimpleShearTest::write_summary(const std::string& resolved_config_json) con
     bool complete = true;
     for (std::size_t r = 1; r < rows.size(); ++r) {
       const double strain = rows[r][col("shear_strain")];
-      if (strain <= from + 1e-9 || strain > to + 1e-9) continue;
+      // Rows fall a little past their nominal strains: half an interval of slack on both ends.
+      const double slack = 0.5 * config_.output_every_strain;
+      if (strain <= from + slack || strain > to + slack) continue;
       if (strain_from < 0) strain_from = rows[r - 1][col("shear_strain")];
       strain_to = strain;
       for (int b = 0; b < config_.profile_bins; ++b) {

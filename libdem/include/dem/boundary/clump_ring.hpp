@@ -1,7 +1,8 @@
 // The lateral confinement of an NGI-type simple-shear specimen: a stack of rings around the
 // cylindrical specimen, each ring a rigid clump of pebbles (docs/model.md 4). The sand pushes the rings
-// passively; each ring is free to translate horizontally and is fixed in z and in rotation, so the
-// stack keeps the cross-section constant and follows the shear profile layer by layer.
+// passively; each ring is free to translate horizontally and is fixed in rotation, so the stack keeps
+// the cross-section constant and follows the shear profile layer by layer. Vertically the rings are
+// fixed here; a protocol may move them (lab::SimpleShearTest moves each with the specimen height).
 //
 // Why clumps and not a cylindrical facet wall: a facet wall only moves with a prescribed velocity,
 // and a prescribed velocity concentrates load at the boundary (the study's reason, docs/model.md 4).

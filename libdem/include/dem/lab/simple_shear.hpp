@@ -13,6 +13,11 @@
 // stresses and their rotation come from a measurement sphere at mid-height, which follows the
 // mean horizontal displacement of the specimen.
 //
+// The specimen grows against the servo plate at a low stress, with the generation friction lowered
+// step by step until the target porosity (docs/model.md 7.1); the rings then ride on the specimen
+// between the plates (rings.vertical, docs/model.md 4). History rows also measure how uniformly the
+// specimen shears (docs/model.md 8.1); a ball that leaves the specimen stops the run.
+//
 // Runs are steps in chunks of `chunk_steps`; outputs and restart files are written only between
 // chunks, so a run resumed from a restart file repeats the uninterrupted run exactly.
 #pragma once
@@ -95,7 +100,11 @@ class SimpleShearTest {
   /// Writes the world and the protocol's progress (atomically).
   void save_restart(const std::filesystem::path& file) const;
   /// Continues from a restart file of the same configuration: after generation, after
-  /// consolidation, or anywhere in the shear. Outputs already written past the restart point
+  /// consolidation, or anywhere in the shear. Keys the file also carries are applied from this
+  /// configuration (engine.local_damping, engine.time_step when fixed, engine.max_overlap_ratio,
+  /// rings.density, rings.vertical) or, where they describe the specimen itself (specimen.density,
+  /// specimen.diameter, specimen.height, the ring geometry, engine.time_step_safety), refused with
+  /// an InputError naming the key when they differ. Outputs already written past the restart point
   /// are trimmed so that they match the resumed run. A restart in another folder than this run's
   /// brings its outputs along: history.csv, fabric.csv and snapshots/ are copied here first.
   void load_restart(const std::filesystem::path& file);
