@@ -41,7 +41,7 @@ std::vector<std::string> history_columns(std::size_t rings, int bins) {
       // uniformity and the study's non-coaxiality (docs/model.md 8.1)
       "specimen_porosity", "balls_outside", "contacts_within_detection", "mechanical_coordination_number",
       "strain_rate_direction_deg", "non_coaxiality_deg", "profile_r2", "strain_bottom_third", "strain_middle_third",
-      "strain_top_third", "top_bottom_strain_ratio"};
+      "strain_top_third", "top_bottom_strain_ratio", "bottom_dx", "bottom_dy", "top_dx", "top_dy"};
   for (const char* layer : {"bottom", "middle", "top"})
     for (const char* what : {"stress_ratio", "porosity"}) c.push_back(std::string("layer_") + layer + "_" + what);
   for (int b = 0; b < bins; ++b) c.push_back("profile_u_" + std::to_string(b + 1));
@@ -387,11 +387,14 @@ double SimpleShearTest::inertial_number() const {
 }
 
 void SimpleShearTest::start_leg() {
-  const double speed = shear_rate() * consolidated_height_;  // m/s of the bottom plate
+  const double speed = shear_rate() * consolidated_height_;  // m/s of the bottom plate relative to the top
+  const double share = config_.both_plates_move ? 0.5 : 1.0;
   FacetWall& bottom = world_->wall(bottom_);
-  bottom.velocity = speed * leg_direction(leg_);
+  bottom.velocity = share * speed * leg_direction(leg_);
   FacetWall& top = world_->wall(top_);
-  top.velocity.x() = top.velocity.y() = 0.0;
+  const Vec3 top_horizontal = (share - 1.0) * speed * leg_direction(leg_);
+  top.velocity.x() = top_horizontal.x();
+  top.velocity.y() = top_horizontal.y();
   servo_->hold_position(config_.constant_volume);
   servo_->set_max_speed(shear_servo_speed());
 }
@@ -453,6 +456,7 @@ void SimpleShearTest::shear() {
   }
   stage_ = ShearStage::Done;
   world_->wall(bottom_).velocity.setZero();
+  world_->wall(top_).velocity.x() = world_->wall(top_).velocity.y() = 0.0;
   wall_seconds_ += seconds_since(t0);
   save_restart(out_dir_ / "final.restart");
   log_ << "shear done in " << seconds_since(t0) << " s, " << world_->step_count() - steps_at_shear_start_ << " steps\n";

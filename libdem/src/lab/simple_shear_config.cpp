@@ -127,6 +127,9 @@ io::Schema simple_shear_schema() {
   s.add({.key = "consolidation.max_steps", .type = ValueType::Integer, .default_value = "400000", .unit = "-", .help = "steps after which consolidation stops with a warning", .min = 1.0});
   s.add({.key = "shear.mode", .type = ValueType::Text, .default_value = "drained", .unit = "-",
          .help = "drained: constant vertical stress (servo); constant-volume: fixed height", .choices = {"drained", "constant-volume"}});
+  s.add({.key = "shear.moving_plate", .type = ValueType::Text, .default_value = "bottom", .unit = "-",
+         .help = "bottom: the bottom plate moves along the shear, the top is held (the study); both: each moves half the displacement, in opposite directions (the same relative motion, with the specimen's middle at rest)",
+         .choices = {"bottom", "both"}});
   s.add({.key = "shear.directions_deg", .type = ValueType::RealList, .default_value = "0", .unit = "deg",
          .help = "direction of each shear leg in the horizontal plane, from +x towards +y", .min = -360.0, .max = 360.0});
   s.add({.key = "shear.leg_strains", .type = ValueType::RealList, .default_value = "", .unit = "-",
@@ -215,6 +218,7 @@ SimpleShearConfig simple_shear_config(const io::Config& c) {
   s.settle_steps = c.integer("consolidation.settle_steps");
   s.consolidation_max_steps = c.integer("consolidation.max_steps");
   s.constant_volume = c.text("shear.mode") == "constant-volume";
+  s.both_plates_move = c.text("shear.moving_plate") == "both";
   s.shear_servo_max_speed = c.real("shear.servo_max_speed");
   const auto directions = c.real_list("shear.directions_deg");
   const auto strains = c.real_list("shear.leg_strains");

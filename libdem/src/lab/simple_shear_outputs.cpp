@@ -387,14 +387,16 @@ void SimpleShearTest::write_summary(const std::string& resolved_config_json) con
     const double from = 0.2, to = 0.4;
     std::vector<double> summed(static_cast<std::size_t>(config_.profile_bins), 0.0);
     double strain_from = -1, strain_to = -1;
+    std::size_t first_row = 0, last_row = 0;
     bool complete = true;
     for (std::size_t r = 1; r < rows.size(); ++r) {
       const double strain = rows[r][col("shear_strain")];
       // Rows fall a little past their nominal strains: half an interval of slack on both ends.
       const double slack = 0.5 * config_.output_every_strain;
       if (strain <= from + slack || strain > to + slack) continue;
-      if (strain_from < 0) strain_from = rows[r - 1][col("shear_strain")];
+      if (strain_from < 0) strain_from = rows[r - 1][col("shear_strain")], first_row = r;
       strain_to = strain;
+      last_row = r;
       for (int b = 0; b < config_.profile_bins; ++b) {
         const double u = rows[r][col("profile_u_" + std::to_string(b + 1))];
         if (std::isnan(u)) complete = false;
@@ -412,8 +414,13 @@ void SimpleShearTest::write_summary(const std::string& resolved_config_json) con
         profile.mean_displacement.push_back(u);  // NaN where a bin had no ball at some row
         profile.count.push_back(std::isnan(u) ? 0 : 1);
       }
-      const double u_bottom = (strain_to - strain_from) * consolidated_height_;
-      const measure::ShearUniformity uniformity = measure::shear_uniformity(profile, 0.0, height, u_bottom, 0.0);
+      // The plates' displacements along the last leg over the span (the top moves too with
+      // shear.moving_plate = both).
+      const Vec3 d = leg_direction(config_.legs.size() - 1);
+      auto plate = [&](std::size_t r, const char* x, const char* y) { return Vec3(rows[r][col(x)], rows[r][col(y)], 0.0).dot(d); };
+      const double u_bottom = plate(last_row, "bottom_dx", "bottom_dy") - plate(first_row - 1, "bottom_dx", "bottom_dy");
+      const double u_top = plate(last_row, "top_dx", "top_dy") - plate(first_row - 1, "top_dx", "top_dy");
+      const measure::ShearUniformity uniformity = measure::shear_uniformity(profile, 0.0, height, u_bottom, u_top);
       io::Json u;
       u["from_shear_strain"] = strain_from;
       u["to_shear_strain"] = strain_to;

@@ -79,7 +79,8 @@ std::vector<double> SimpleShearTest::uniformity_columns(const ShearState& s) {
     bins = profile.mean_displacement;
   }
   out.insert(out.end(), {uniformity.r_squared, uniformity.bottom_third_strain, uniformity.middle_third_strain,
-                         uniformity.top_third_strain, uniformity.top_bottom_strain_ratio});
+                         uniformity.top_third_strain, uniformity.top_bottom_strain_ratio, bottom.displacement.x(),
+                         bottom.displacement.y(), top.displacement.x(), top.displacement.y()});
   // Layers: three spheres filling the thirds, each at the uniform-shear position of its centre.
   for (int third = 0; third < 3; ++third) {
     const double fraction = (2 * third + 1) / 6.0;

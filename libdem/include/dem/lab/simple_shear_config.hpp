@@ -82,6 +82,7 @@ struct SimpleShearConfig {
   long consolidation_max_steps = 400000;
   // shear
   bool constant_volume = false;         // false: drained (constant vertical stress)
+  bool both_plates_move = false;        // false: the bottom plate moves; true: each plate moves half, oppositely
   double shear_servo_max_speed = 0.0;   // m/s; 0: max(servo_max_speed, shear plate speed)
   std::vector<ShearLeg> legs{{0.0, 0.4}};
   double inertial_number = 1e-3;        // -, target; sets the shear rate unless strain_rate > 0
