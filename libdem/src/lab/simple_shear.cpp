@@ -141,10 +141,26 @@ void SimpleShearTest::move_rings(World& w) const {
   const FacetWall& bottom = w.wall(bottom_);
   const double z_bottom = bottom.displacement.z(), gap = plate_gap();
   const bool prescribed = config_.ring_vertical == RingVertical::Prescribed && stage_ >= ShearStage::Generated;
-  for (Clump& ring : w.clumps()) {
+  // Sand rings: the mean vertical velocity of the balls touching each ring (the interpolation
+  // while the specimen is made, or for a ring that touches none).
+  std::vector<double> sand_vz, touching;
+  if (config_.ring_vertical == RingVertical::Sand && stage_ >= ShearStage::Generated) {
+    sand_vz.assign(w.clumps().size(), 0.0);
+    touching.assign(w.clumps().size(), 0.0);
+    const PairContacts& pebbles = w.pair_contacts(ContactKind::BallPebble);
+    const ParticleStore& p = w.particles();
+    for (std::size_t k = 0; k < pebbles.size(); ++k) {
+      if (!pebbles.touching[k]) continue;
+      const auto ring = static_cast<std::size_t>(p.clump[static_cast<std::size_t>(pebbles.second[k])]);
+      sand_vz[ring] += p.v[static_cast<std::size_t>(pebbles.first[k])].z();
+      touching[ring] += 1.0;
+    }
+  }
+  for (std::size_t k = 0; k < w.clumps().size(); ++k) {
+    Clump& ring = w.clumps()[k];
     const double s = (ring.x.z() - z_bottom) / gap;
     const Vec3 v = bottom.velocity + s * (top.velocity - bottom.velocity);
-    ring.v.z() = v.z();
+    ring.v.z() = !touching.empty() && touching[k] > 0 ? sand_vz[k] / touching[k] : v.z();
     if (prescribed) ring.v.x() = v.x(), ring.v.y() = v.y();
   }
 }

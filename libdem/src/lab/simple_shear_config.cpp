@@ -95,8 +95,8 @@ io::Schema simple_shear_schema() {
   s.add({.key = "rings.gap", .default_value = "0", .unit = "m", .help = "vertical gap between rings, 0: a tenth of the pebble radius", .min = 0.0});
   s.add({.key = "rings.density", .default_value = "2700", .unit = "kg/m^3", .help = "density of the solid ring the pebbles stand for", .min = 0.0, .min_exclusive = true});
   s.add({.key = "rings.vertical", .type = ValueType::Text, .default_value = "follow", .unit = "-",
-         .help = "rings once the specimen is made: fixed (held at their heights), follow (each moves vertically with the specimen, its height interpolated between the plates), prescribed (follow, and the horizontal displacement prescribed linear in height: a diagnostic), free (free vertically too: each ring is carried by the sand beside it)",
-         .choices = {"fixed", "follow", "prescribed", "free"}});
+         .help = "rings once the specimen is made: fixed (held at their heights), follow (each moves vertically with the specimen, its height interpolated between the plates), prescribed (follow, and the horizontal displacement prescribed linear in height: a diagnostic), free (free vertically too: each ring is carried by the sand beside it), sand (each ring moves vertically with the mean vertical velocity of the balls touching it)",
+         .choices = {"fixed", "follow", "prescribed", "free", "sand"}});
   s.add({.key = "rings.stack_height", .default_value = "0", .unit = "m",
          .help = "height the ring stack covers; 0: the specimen height (1.1 x with rings.vertical = fixed, room for dilation)", .min = 0.0});
   s.add({.key = "engine.local_damping", .default_value = "0.7", .unit = "-", .help = "local non-viscous damping alpha", .min = 0.0, .max = 0.99});
@@ -192,6 +192,7 @@ SimpleShearConfig simple_shear_config(const io::Config& c) {
   s.ring_vertical = vertical == "fixed"    ? RingVertical::Fixed
                     : vertical == "follow" ? RingVertical::Follow
                     : vertical == "free"   ? RingVertical::Free
+                    : vertical == "sand"   ? RingVertical::Sand
                                            : RingVertical::Prescribed;
   s.ring_stack_height = c.real("rings.stack_height");
   require(s.ring_stack_height == 0.0 || s.ring_stack_height >= c.real("specimen.height"), "rings.stack_height",

@@ -1,4 +1,5 @@
 // Measurements, outputs and restart files of the simple-shear protocol.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -266,7 +267,18 @@ void SimpleShearTest::restore_protocol_state(const std::string& text) {
   if (rows > 0) {
     const io::CsvData old = io::read_csv(out_dir_ / "history.csv", io::Missing::Allowed);
     require(old.rows.size() >= rows, "history.csv rows", old.rows.size(), ">= " + std::to_string(rows) + " (as in the restart file)");
-    for (std::size_t r = 0; r < rows; ++r) history_.add_row(old.rows[r]);
+    // Columns by name: a history written before a column existed gets nan in it.
+    std::vector<std::ptrdiff_t> source;
+    for (const std::string& name : history_.columns()) {
+      const auto it = std::find(old.columns.begin(), old.columns.end(), name);
+      source.push_back(it == old.columns.end() ? -1 : it - old.columns.begin());
+    }
+    for (std::size_t r = 0; r < rows; ++r) {
+      std::vector<double> row;
+      for (std::ptrdiff_t c : source)
+        row.push_back(c < 0 ? std::numeric_limits<double>::quiet_NaN() : old.rows[r][static_cast<std::size_t>(c)]);
+      history_.add_row(row);
+    }
   }
   fabric_->resume(next_fabric_);
   snapshots_->resume(next_snapshot_);

@@ -38,6 +38,7 @@ enum class RingVertical {
   Follow,      ///< each ring moves with the specimen: its height interpolated between the plates
   Prescribed,  ///< follow, and the horizontal displacement is prescribed linear in height (diagnostic)
   Free,        ///< free in z too: each ring rides on the sand next to it, no vertical side friction on balance
+  Sand,        ///< each ring moves vertically with the mean vertical velocity of the balls touching it
 };
 
 struct SimpleShearConfig {
