@@ -195,7 +195,7 @@ std::string SimpleShearTest::protocol_state() const {
   out << "profile_bottom_x " << profile_bottom_.x() << "\nprofile_bottom_y " << profile_bottom_.y() << "\nprofile_bottom_z "
       << profile_bottom_.z() << "\nprofile_top_x " << profile_top_.x() << "\nprofile_top_y " << profile_top_.y()
       << "\nprofile_top_z " << profile_top_.z() << "\n";
-  for (const auto& [name, state] : {std::pair{"generated", &generated_state_}, std::pair{"consolidated", &consolidated_state_}})
+  for (const auto& [name, state] : {std::pair{"specimen_generated", &generated_state_}, std::pair{"specimen_consolidated", &consolidated_state_}})
     out << name << "_porosity " << state->porosity << "\n" << name << "_sphere_porosity " << state->sphere_porosity << "\n"
         << name << "_coordination " << state->coordination_number << "\n" << name << "_mechanical_coordination "
         << state->mechanical_coordination_number << "\n" << name << "_vertical_stress " << state->vertical_stress << "\n"
@@ -255,7 +255,7 @@ void SimpleShearTest::restore_protocol_state(const std::string& text) {
     const auto it = v.find(k);
     return it == v.end() ? std::numeric_limits<double>::quiet_NaN() : it->second;
   };
-  for (const auto& [name, state] : {std::pair{"generated", &generated_state_}, std::pair{"consolidated", &consolidated_state_}}) {
+  for (const auto& [name, state] : {std::pair{"specimen_generated", &generated_state_}, std::pair{"specimen_consolidated", &consolidated_state_}}) {
     const std::string n = name;
     *state = {optional(n + "_porosity"), optional(n + "_sphere_porosity"), optional(n + "_coordination"),
               optional(n + "_mechanical_coordination"), optional(n + "_vertical_stress"), optional(n + "_k0"),
