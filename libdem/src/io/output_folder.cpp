@@ -1,0 +1,142 @@
+#include <dem/io/output_folder.hpp>
+
+#include <cerrno>
+#include <chrono>
+#include <csignal>
+#include <cstring>
+#include <ctime>
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <dem/core/errors.hpp>
+
+namespace fs = std::filesystem;
+
+namespace dem::io {
+
+namespace {
+
+std::string read_all(int fd) {
+  std::string text;
+  char buffer[512];
+  ::lseek(fd, 0, SEEK_SET);
+  for (ssize_t n; (n = ::read(fd, buffer, sizeof buffer)) > 0;) text.append(buffer, static_cast<std::size_t>(n));
+  while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
+  return text;
+}
+
+std::string now_utc() {
+  const std::time_t t = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return text;
+}
+
+// "<name>.tmp.<pid>" of a process that no longer runs: what write_atomically leaves when killed.
+bool is_leftover_temporary(const fs::path& file) {
+  const std::string name = file.filename().string();
+  const auto at = name.rfind(".tmp.");
+  if (at == std::string::npos || at + 5 >= name.size()) return false;
+  const std::string digits = name.substr(at + 5);
+  if (digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) return false;
+  const auto pid = static_cast<pid_t>(std::stol(digits));
+  if (pid == ::getpid()) return false;
+  return ::kill(pid, 0) != 0 && errno == ESRCH;
+}
+
+std::size_t remove_leftovers(const fs::path& folder) {
+  std::size_t removed = 0;
+  auto sweep = [&](const fs::path& dir) {
+    std::error_code error;
+    for (const auto& entry : fs::directory_iterator(dir, error)) {
+      std::error_code ignored;
+      if (entry.is_regular_file(ignored) && is_leftover_temporary(entry.path()) && fs::remove(entry.path(), ignored)) ++removed;
+    }
+  };
+  sweep(folder);
+  std::error_code error;
+  for (const auto& entry : fs::directory_iterator(folder, error)) {
+    std::error_code ignored;
+    if (entry.is_directory(ignored)) sweep(entry.path());
+  }
+  return removed;
+}
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string text;
+  for (const std::string& name : names) text += (text.empty() ? "" : ", ") + name;
+  return text;
+}
+
+}  // namespace
+
+std::vector<std::string> existing_run_files(const fs::path& folder, const std::vector<std::string>& run_files) {
+  std::vector<std::string> found;
+  for (const std::string& name : run_files) {
+    std::error_code error;
+    if (fs::exists(folder / name, error)) found.push_back(name);
+  }
+  return found;
+}
+
+OutputFolder::OutputFolder(fs::path folder, const OutputFolderPolicy& policy) : folder_(std::move(folder)) {
+  require(!folder_.empty(), "output folder", "(empty)", "a folder path");
+  const std::string where = "output folder " + folder_.string();
+  std::error_code error;
+  if (fs::exists(folder_, error) && !fs::is_directory(folder_, error))
+    throw InputError(where + " is a file, not a folder: choose a folder for the results");
+  fs::create_directories(folder_, error);
+  if (error) throw InputError(where + " cannot be created: " + error.message());
+
+  const fs::path lock_file = folder_ / ".lock";
+  lock_fd_ = ::open(lock_file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (lock_fd_ < 0) throw InputError(where + " is not writable (" + std::strerror(errno) + ")");
+  if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
+    const std::string holder = read_all(lock_fd_);
+    ::close(lock_fd_);
+    lock_fd_ = -1;
+    throw InputError(where + " is in use by another run (" + (holder.empty() ? std::string("starting") : holder) +
+                     "): wait until it ends, or choose another folder");
+  }
+  const std::string holder = "pid " + std::to_string(::getpid()) + ", " + policy.program + ", started " + now_utc() + "\n";
+  const bool recorded = ::ftruncate(lock_fd_, 0) == 0 && ::lseek(lock_fd_, 0, SEEK_SET) == 0 &&
+                        ::write(lock_fd_, holder.data(), holder.size()) == static_cast<ssize_t>(holder.size());
+
+  // The lock file may be writable where new files are not (an old lock in a read-only folder).
+  const fs::path probe = folder_ / (".write-test." + std::to_string(::getpid()));
+  const int probe_fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (probe_fd < 0 || !recorded) {
+    const std::string reason = std::strerror(errno);
+    if (probe_fd >= 0) ::close(probe_fd), fs::remove(probe, error);
+    ::close(lock_fd_);
+    lock_fd_ = -1;
+    throw InputError(where + " is not writable (" + reason + ")");
+  }
+  ::close(probe_fd);
+  fs::remove(probe, error);
+
+  leftovers_removed_ = remove_leftovers(folder_);
+  if (policy.continues_own_run) return;
+  const std::vector<std::string> found = existing_run_files(folder_, policy.run_files);
+  if (found.empty()) return;
+  if (!policy.replace) {
+    ::close(lock_fd_);
+    lock_fd_ = -1;
+    throw InputError(where + " holds the results of another run (" + joined(found) + "): choose another folder, or " +
+                     policy.replace_option + " to remove them first");
+  }
+  for (const std::string& name : found) {
+    fs::remove_all(folder_ / name, error);
+    if (error) throw InputError(where + ": cannot remove " + name + " of the run it held: " + error.message());
+    replaced_.push_back(name);
+  }
+}
+
+OutputFolder::~OutputFolder() {
+  if (lock_fd_ >= 0) ::close(lock_fd_);  // releases the lock; the file stays, naming no one
+}
+
+}  // namespace dem::io

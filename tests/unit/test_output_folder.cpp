@@ -1,0 +1,115 @@
+// The output folder a run claims: one run at a time, writable before any work, another run's
+// results refused or replaced as a whole, and the temporary files of killed runs cleaned up.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <dem/core/errors.hpp>
+#include <dem/io/output_folder.hpp>
+
+using namespace dem;
+namespace fs = std::filesystem;
+using Catch::Matchers::Contains;
+
+namespace {
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("libdem_output_folder_" + name);
+  fs::remove_all(dir);
+  return dir;
+}
+
+void write(const fs::path& file, const std::string& text) {
+  std::ofstream(file) << text;
+}
+
+std::string read(const fs::path& file) {
+  std::ifstream in(file);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+io::OutputFolderPolicy policy() {
+  io::OutputFolderPolicy p;
+  p.run_files = {"history.csv", "snapshots", "final.restart"};
+  p.program = "test-program";
+  return p;
+}
+
+// The pid of a process that has ended: a child that exits at once, reaped.
+pid_t ended_pid() {
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  ::waitpid(child, nullptr, 0);
+  return child;
+}
+
+}  // namespace
+
+TEST_CASE("output folder: a second claim while the first holds it is refused, naming the holder", "[io][output-folder]") {
+  const fs::path dir = fresh_dir("lock") / "nested";
+  {
+    io::OutputFolder first(dir, policy());
+    CHECK(fs::is_directory(dir));
+    // flock locks belong to an open file: a second open in this process conflicts as another
+    // process would.
+    CHECK_THROWS_WITH(io::OutputFolder(dir, policy()),
+                      Contains("in use by another run") && Contains("pid " + std::to_string(::getpid())) &&
+                          Contains("test-program") && Contains(dir.string()));
+  }
+  CHECK_NOTHROW(io::OutputFolder(dir, policy()));  // released with the first
+}
+
+TEST_CASE("output folder: another run's results are refused untouched, or replaced together", "[io][output-folder]") {
+  const fs::path dir = fresh_dir("replace");
+  fs::create_directories(dir / "snapshots");
+  write(dir / "history.csv", "time\n1\n");
+  write(dir / "snapshots" / "balls_0.vtp", "x");
+  write(dir / "notes.txt", "the user's own file");
+  CHECK_THROWS_WITH(io::OutputFolder(dir, policy()),
+                    Contains("holds the results of another run") && Contains("history.csv, snapshots") && Contains("--replace"));
+  CHECK(read(dir / "history.csv") == "time\n1\n");
+  CHECK(fs::exists(dir / "snapshots" / "balls_0.vtp"));
+
+  io::OutputFolderPolicy continuing = policy();
+  continuing.continues_own_run = true;  // a restart in this folder: its results are the run's own
+  { CHECK_NOTHROW(io::OutputFolder(dir, continuing)); }
+  CHECK(fs::exists(dir / "history.csv"));
+
+  io::OutputFolderPolicy replacing = policy();
+  replacing.replace = true;
+  io::OutputFolder folder(dir, replacing);
+  CHECK(folder.replaced() == std::vector<std::string>{"history.csv", "snapshots"});
+  CHECK_FALSE(fs::exists(dir / "history.csv"));
+  CHECK_FALSE(fs::exists(dir / "snapshots"));
+  CHECK(read(dir / "notes.txt") == "the user's own file");  // not a result: left alone
+}
+
+TEST_CASE("output folder: temporary files of ended processes are removed, those of running ones kept", "[io][output-folder]") {
+  const fs::path dir = fresh_dir("leftovers");
+  fs::create_directories(dir / "snapshots");
+  const std::string dead = std::to_string(ended_pid()), alive = std::to_string(::getppid());
+  write(dir / ("history.csv.tmp." + dead), "time\n1,");
+  write(dir / "snapshots" / ("balls_3.vtp.tmp." + dead), "<VTK");
+  write(dir / ("fabric.csv.tmp." + alive), "being written");
+  write(dir / "history.csv.tmp.notapid", "x");
+  io::OutputFolderPolicy resuming = policy();
+  resuming.continues_own_run = true;  // snapshots/ is there: the killed run's own
+  io::OutputFolder folder(dir, resuming);
+  CHECK(folder.leftovers_removed() == 2);
+  CHECK_FALSE(fs::exists(dir / ("history.csv.tmp." + dead)));
+  CHECK_FALSE(fs::exists(dir / "snapshots" / ("balls_3.vtp.tmp." + dead)));
+  CHECK(fs::exists(dir / ("fabric.csv.tmp." + alive)));
+  CHECK(fs::exists(dir / "history.csv.tmp.notapid"));
+}
+
+TEST_CASE("output folder: a file, or a folder that cannot be created, is refused before any work", "[io][output-folder]") {
+  const fs::path dir = fresh_dir("unusable");
+  fs::create_directories(dir);
+  write(dir / "a_file", "x");
+  CHECK_THROWS_AS(io::OutputFolder(dir / "a_file", policy()), InputError);
+  CHECK_THROWS_WITH(io::OutputFolder(dir / "a_file", policy()), Contains("is a file, not a folder"));
+  CHECK_THROWS_WITH(io::OutputFolder(dir / "a_file" / "sub", policy()), Contains("cannot be created"));
+}
