@@ -16,13 +16,17 @@ int main(int argc, char** argv) {
         argc, argv, "dem-consolidate", "generate and consolidate a simple-shear specimen; writes consolidated.restart", std::cout);
     if (!cli) return 0;
     dem::lab::SimpleShearTest test(cli->config, cli->out_dir, std::cout);
-    if (!cli->from.empty()) test.load_restart(cli->from);
+    test.record_configuration(*cli->configuration);
+    // A consolidated specimen is consolidated again with this configuration's contact parameters.
+    if (!cli->from.empty()) test.load_restart(cli->from, dem::lab::ResumeIntent::Reconsolidate);
+    if (test.stage() >= dem::lab::ShearStage::Shearing)
+      throw dem::InputError("--from " + cli->from.string() + ": stage " + std::to_string(static_cast<int>(test.stage())) +
+                            " (shearing or sheared): must be a restart of the generation (0), after it (1) or after the "
+                            "consolidation (2); continue a shear with dem-simple-shear --from");
+    test.open_outputs({.replace = cli->replace, .program = "dem-consolidate"});  // before any work
     if (test.stage() == dem::lab::ShearStage::Empty) test.generate();
     if (test.stage() == dem::lab::ShearStage::Generated) test.consolidate();
     else if (test.stage() == dem::lab::ShearStage::Consolidated) test.reconsolidate();
-    else
-      throw dem::InputError("--from " + cli->from.string() + ": stage " + std::to_string(static_cast<int>(test.stage())) +
-                            " (shearing or sheared): must be a restart after generation (1) or consolidation (2)");
     test.write_summary(cli->resolved_json);
     std::cout << "consolidated specimen: " << (cli->out_dir / "consolidated.restart").string()
               << "\nshear it with: dem-simple-shear --from " << (cli->out_dir / "consolidated.restart").string() << "\n";

@@ -13,7 +13,9 @@ int main(int argc, char** argv) {
         argc, argv, "dem-simple-shear", "DEM simple-shear test (generate, consolidate, shear) with outputs in --out", std::cout);
     if (!cli) return 0;
     dem::lab::SimpleShearTest test(cli->config, cli->out_dir, std::cout);
+    test.record_configuration(*cli->configuration);
     if (!cli->from.empty()) test.load_restart(cli->from);
+    test.open_outputs({.replace = cli->replace, .program = "dem-simple-shear"});  // before any work
     test.run();
     test.write_summary(cli->resolved_json);
     std::cout << "results in " << cli->out_dir.string()

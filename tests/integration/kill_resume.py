@@ -3,11 +3,12 @@
 
 Usage: kill_resume.py DEM_SIMPLE_SHEAR WORK_DIR [SEED]   (tests/ctest/kill_resume.cmake runs it)
 
-1. Run A goes through uninterrupted. Run B is killed with SIGKILL at a random moment of its shear
-   (after its first periodic restart file appeared), then resumed with --from B/restart.restart.
-   history.csv, fabric.csv and the snapshots of B must equal A's byte for byte, and final.restart
-   must hold the same World state, field by field, and the same protocol block except
-   wall_seconds (the run's wall-clock time).
+1. In each stage (generation, consolidation, shear): run A goes through uninterrupted; run B is
+   killed with SIGKILL at a random moment of that stage, then resumed with --from
+   B/restart.restart (its log must name the stage). history.csv, fabric.csv and the snapshots of B
+   must equal A's byte for byte, and final.restart must hold the same World state, field by
+   field, and the same protocol block except wall_seconds (the run's wall-clock time). A
+   temporary file planted as a killed writer would leave it is removed by the resumed run.
 2. A truncated and a corrupted (one flipped byte) restart file are refused by --from with exit
    code 2 and a message naming the file and the problem.
 3. Atomic outputs: runs that rewrite history.csv every few steps are killed at random moments;
@@ -44,19 +45,6 @@ def fail(message):
 def run(program, args, log_name):
     with open(log_name, "w") as log:
         return subprocess.run([program] + args, stdout=log, stderr=subprocess.STDOUT, timeout=RUN_TIMEOUT).returncode
-
-
-def wait_for(path, process, timeout=RUN_TIMEOUT):
-    """Polls until `path` exists; fails if the process ends first."""
-    start = time.monotonic()
-    while not os.path.exists(path):
-        if process.poll() is not None:
-            fail(f"the run ended (exit {process.returncode}) before {path} appeared")
-        if time.monotonic() - start > timeout:
-            process.kill()
-            fail(f"{path} did not appear within {timeout} s")
-        time.sleep(0.005)
-    return time.monotonic()
 
 
 def read(path):
@@ -167,58 +155,99 @@ def check_complete_csv(path, context):
     return len(lines) - 1
 
 
-def kill_and_resume(program, work, rng):
-    a, b = os.path.join(work, "A"), os.path.join(work, "B")
-    # Run A, timed so that run B's kill can be placed inside the shear.
-    process = subprocess.Popen([program] + SPECIMEN + ["--out", a], stdout=open(os.path.join(work, "A.log"), "w"),
-                               stderr=subprocess.STDOUT)
-    first_restart = wait_for(os.path.join(a, "restart.restart"), process)
-    if process.wait(timeout=RUN_TIMEOUT) != 0:
-        fail(f"run A failed (exit {process.returncode}); see {work}/A.log")
-    shear_seconds = time.monotonic() - first_restart
-    print(f"run A: shear took {shear_seconds:.1f} s after the first restart file", flush=True)
+def marks(out, log_path):
+    """Which points run `out` has passed: its first restart file, the end of the generation (its
+    log line), consolidated.restart, final.restart."""
+    log = read(log_path).decode(errors="replace") if os.path.exists(log_path) else ""
+    return {"restart": os.path.exists(os.path.join(out, "restart.restart")),
+            "generated": "generation done" in log,
+            "consolidated": os.path.exists(os.path.join(out, "consolidated.restart")),
+            "final": os.path.exists(os.path.join(out, "final.restart"))}
 
-    # Run B, killed somewhere between 15 % and 75 % of the shear: late enough that periodic restart
-    # files and history rows have been written since the first one, early enough to land mid-shear.
-    # If a faster run B finishes first anyway (a busy machine slowed run A), try again sooner.
-    delay = rng.uniform(0.15, 0.75) * shear_seconds
-    for attempt in range(4):
+
+def timed_run(program, args, out, log_path):
+    """Runs to the end, noting when each mark was first passed (s from the start)."""
+    start = time.monotonic()
+    seen = {}
+    with open(log_path, "w") as log:
+        process = subprocess.Popen([program] + args + ["--out", out], stdout=log, stderr=subprocess.STDOUT)
+        while process.poll() is None:
+            for name, passed in marks(out, log_path).items():
+                if passed and name not in seen:
+                    seen[name] = time.monotonic() - start
+            if time.monotonic() - start > RUN_TIMEOUT:
+                process.kill()
+                fail(f"run {out} did not end within {RUN_TIMEOUT} s")
+            time.sleep(0.003)
+    if process.returncode != 0:
+        fail(f"run {out} failed (exit {process.returncode}); see {log_path}")
+    for name, passed in marks(out, log_path).items():
+        seen.setdefault(name, time.monotonic() - start)
+    return seen
+
+
+def kill_and_resume(program, work, rng, stage, args, start_mark, end_mark):
+    """Run A goes through; run B is killed between `start_mark` and `end_mark` (the stage
+    `stage` of the resumed run's log) and resumed from B/restart.restart; their outputs and
+    final.restart must be the same."""
+    a, b = os.path.join(work, stage + "-A"), os.path.join(work, stage + "-B")
+    seen = timed_run(program, args, a, a + ".log")
+    window = seen[end_mark] - seen[start_mark]
+    print(f"{stage}: run A passed {start_mark} at {seen[start_mark]:.2f} s and {end_mark} at {seen[end_mark]:.2f} s",
+          flush=True)
+
+    # Killed somewhere between 15 % and 75 % of the window; if a faster run B passes the end mark
+    # first anyway (a busy machine slowed run A), try again sooner.
+    delay = rng.uniform(0.15, 0.75) * window
+    for attempt in range(5):
         shutil.rmtree(b, ignore_errors=True)
-        process = subprocess.Popen([program] + SPECIMEN + ["--out", b], stdout=open(os.path.join(work, "B.log"), "w"),
-                                   stderr=subprocess.STDOUT)
-        wait_for(os.path.join(b, "restart.restart"), process)
-        time.sleep(delay)
-        if process.poll() is None:
+        log_path = b + ".log"
+        with open(log_path, "w") as log:
+            process = subprocess.Popen([program] + args + ["--out", b], stdout=log, stderr=subprocess.STDOUT)
+            started = time.monotonic()
+            while not marks(b, log_path)[start_mark]:
+                if process.poll() is not None or time.monotonic() - started > RUN_TIMEOUT:
+                    fail(f"{stage}: run B ended (exit {process.poll()}) before passing {start_mark}")
+                time.sleep(0.003)
+            time.sleep(delay)
+            process.send_signal(signal.SIGKILL)
+            process.wait()
+        if not marks(b, log_path)[end_mark]:
             break
-        print(f"run B ended before the kill at +{delay:.2f} s; again with half the delay", flush=True)
+        print(f"{stage}: run B passed {end_mark} before the kill at +{delay:.2f} s; again with half the delay", flush=True)
         delay /= 2
     else:
-        fail("run B always ended before the kill: it cannot be killed mid-shear")
-    process.send_signal(signal.SIGKILL)
-    process.wait()
-    if os.path.exists(os.path.join(b, "final.restart")):
-        fail("run B wrote final.restart before it was killed: the kill did not land mid-shear")
-    print(f"run B: SIGKILL {delay:.2f} s after its first restart file", flush=True)
+        fail(f"{stage}: run B always passed {end_mark} before the kill")
+    print(f"{stage}: run B killed {delay:.2f} s after {start_mark}", flush=True)
 
-    code = run(program, SPECIMEN + ["--out", b, "--from", os.path.join(b, "restart.restart")],
-               os.path.join(work, "B-resumed.log"))
+    # A killed writer may leave a temporary file; the next run in the folder removes it.
+    leftover = os.path.join(b, "history.csv.tmp.4194303")
+    with open(leftover, "w") as f:
+        f.write("time,step\n1,")
+    resumed_log = os.path.join(work, stage + "-B-resumed.log")
+    code = run(program, args + ["--out", b, "--from", os.path.join(b, "restart.restart")], resumed_log)
     if code != 0:
-        fail(f"the resumed run failed (exit {code}); see {work}/B-resumed.log")
+        fail(f"{stage}: the resumed run failed (exit {code}); see {resumed_log}")
+    text = read(resumed_log).decode()
+    if f"({stage}," not in text:
+        fail(f"{stage}: the restart file the kill left is not one of the {stage} stage: {text.splitlines()[0]!r}")
+    if os.path.exists(leftover) or "temporary file(s) left by a killed run" not in text:
+        fail(f"{stage}: the resumed run did not remove the temporary file a killed run left")
     snapshots = sorted(os.listdir(os.path.join(a, "snapshots")))
     if sorted(os.listdir(os.path.join(b, "snapshots"))) != snapshots:
-        fail("the snapshot files of the resumed run differ from the uninterrupted run's")
+        fail(f"{stage}: the snapshot files of the resumed run differ from the uninterrupted run's")
     for name in ["history.csv", "fabric.csv"] + [os.path.join("snapshots", f) for f in snapshots]:
         if read(os.path.join(a, name)) != read(os.path.join(b, name)):
-            fail(f"{name} of the killed-and-resumed run differs from the uninterrupted run's")
+            fail(f"{stage}: {name} of the killed-and-resumed run differs from the uninterrupted run's")
     protocol_a, state_a = restart_parts(os.path.join(a, "final.restart"))
     protocol_b, state_b = restart_parts(os.path.join(b, "final.restart"))
     fields = compare_world_states(state_a, state_b)
     if without_wall_clock(protocol_a) != without_wall_clock(protocol_b):
-        fail(f"final.restart: protocol state differs:\n{protocol_a}\n---\n{protocol_b}")
+        fail(f"{stage}: final.restart: protocol state differs:\n{protocol_a}\n---\n{protocol_b}")
     rows = check_complete_csv(os.path.join(a, "history.csv"), "run A")
-    print(f"resumed run equals the uninterrupted one: history.csv ({rows} rows), fabric.csv, {len(snapshots)} "
+    print(f"{stage}: resumed run equals the uninterrupted one: history.csv ({rows} rows), fabric.csv, {len(snapshots)} "
           f"snapshot files, final World state ({fields} fields, {len(state_a)} bytes)", flush=True)
-    return a, shear_seconds
+    return a, seen["final"] - seen["consolidated"]
 
 
 def damaged_restart_files(program, work, a):
@@ -275,7 +304,11 @@ def main():
     rng = random.Random(seed)
     shutil.rmtree(work, ignore_errors=True)
     os.makedirs(work)
-    a, shear_seconds = kill_and_resume(program, work, rng)
+    kill_and_resume(program, work, rng, "generating", SPECIMEN, "restart", "generated")
+    # A consolidation long enough for restart files during it.
+    kill_and_resume(program, work, rng, "consolidating", SPECIMEN + ["--set", "consolidation.settle_steps=20000"],
+                    "generated", "consolidated")
+    a, shear_seconds = kill_and_resume(program, work, rng, "shearing", SPECIMEN, "consolidated", "final")
     damaged_restart_files(program, work, a)
     atomic_history(program, work, a, rng, shear_seconds)
     shutil.rmtree(work)  # kept on failure, for the logs

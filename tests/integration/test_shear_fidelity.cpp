@@ -11,6 +11,7 @@
 #include <dem/io/csv.hpp>
 #include <dem/lab/simple_shear.hpp>
 
+#include "support/reduced_specimen.hpp"
 #include "support/temp_dir.hpp"
 
 using namespace dem;
@@ -20,15 +21,11 @@ using Catch::Matchers::Contains;
 namespace {
 
 io::Config reduced_specimen() {
-  io::Config c(simple_shear_schema());
-  for (const auto& [k, v] : preset_values("4D")) c.set(k, v);
-  c.set("specimen.diameter", "0.03");
-  c.set("specimen.height", "0.012");
+  io::Config c = testing::reduced_specimen();
   c.set("shear.target_strain", "0.02");
   c.set("output.every_strain", "0.005");
   c.set("output.fabric_strains", "0");
   c.set("output.snapshot_strains", "0");
-  c.set("engine.threads", "1");
   return c;
 }
 

@@ -11,24 +11,23 @@
 #include <dem/io/json.hpp>
 #include <dem/lab/simple_shear.hpp>
 
+#include "support/reduced_specimen.hpp"
+
 using namespace dem;
 using namespace dem::lab;
 namespace fs = std::filesystem;
 using Catch::Matchers::Contains;
+using testing::file_text;
 
 namespace {
 
 io::Config small_config() {
-  io::Config c(simple_shear_schema());
-  for (const auto& [k, v] : preset_values("4D")) c.set(k, v);
-  c.set("specimen.diameter", "0.03");
-  c.set("specimen.height", "0.012");
+  io::Config c = testing::reduced_specimen();
   c.set("shear.target_strain", "0.03");
   c.set("output.every_strain", "0.002");
   c.set("output.fabric_strains", "0,0.02");
   c.set("output.snapshot_strains", "0,0.02");
   c.set("output.restart_every_steps", "300");
-  c.set("engine.threads", "1");
   return c;
 }
 
@@ -36,13 +35,6 @@ fs::path fresh_dir(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / ("libdem_shear_" + name);
   fs::remove_all(dir);
   return dir;
-}
-
-std::string file_text(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 }  // namespace

@@ -41,6 +41,11 @@ void ServoWall::set_target(double stress) {
   steps_on_target_ = 0;
 }
 
+void ServoWall::resume_steps_on_target(std::int64_t steps) {
+  require(steps >= 0, "servo on wall " + std::to_string(wall_) + " steps on target", steps, ">= 0");
+  steps_on_target_ = steps;
+}
+
 void ServoWall::set_max_speed(double max_speed) {
   require(std::isfinite(max_speed) && max_speed > 0.0, "servo on wall " + std::to_string(wall_) + " max_speed", max_speed,
           "finite and > 0 (m/s)");

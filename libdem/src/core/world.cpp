@@ -78,6 +78,15 @@ void World::set_contact_model(ContactKind kind, std::shared_ptr<const ContactMod
   need_rebuild_ = true;  // states are re-created for the new law at the next rebuild
 }
 
+void World::retune_contact_model(ContactKind kind, std::shared_ptr<const ContactModel> model) {
+  require(model != nullptr, std::string("contact model for ") + to_string(kind), "null", "a model");
+  const ContactModel* now = models_[static_cast<int>(kind)].get();
+  require(now != nullptr && std::string(now->law_name()) == model->law_name(),
+          std::string("retuned contact model for ") + to_string(kind), model->law_name(),
+          std::string("the law in use, ") + (now ? now->law_name() : "(none)"));
+  models_[static_cast<int>(kind)] = std::move(model);
+}
+
 void World::set_time_step(double dt) {
   require_positive("time_step", dt);
   settings_.time_step = dt;

@@ -44,6 +44,8 @@ std::filesystem::path restart_file(const po::variables_map& vm) {
   if (!vm.count("from")) return {};
   std::filesystem::path from = vm["from"].as<std::string>();
   require(std::filesystem::exists(from), "--from", from.string(), "an existing restart file");
+  require(!std::filesystem::is_directory(from), "--from", from.string() + " (a folder)",
+          "a restart file, e.g. " + (from / "consolidated.restart").string() + " or " + (from / "restart.restart").string());
   return from;
 }
 

@@ -14,10 +14,11 @@ std::optional<ShearCommandLine> parse_shear_command_line(int argc, char** argv, 
   detail::add_common_options(opts, "1D, 2D or 4D: the study's particle-size scale and Table 1 contact parameters",
                              "configuration file (.ini or .json); overrides the preset", "shear.target_strain=0.1");
   opts.add_options()("out,o", po::value<std::string>()->default_value("runs/simple-shear"), "output folder")(
-      "from", po::value<std::string>(), "continue from a restart file (from dem-consolidate or an interrupted run)");
+      "from", po::value<std::string>(), "continue from a restart file (from dem-consolidate or an interrupted run)")(
+      "replace", "remove the results of another run in --out first (without it such a folder is refused)");
   const po::variables_map vm = detail::parse_options(argc, argv, opts);
   if (vm.count("help")) {
-    out << program << ": " << purpose << "\n\nUsage: " << program << " [--preset 4D] [--config FILE] [--set key=value ...] [--out DIR] [--from FILE]\n\n"
+    out << program << ": " << purpose << "\n\nUsage: " << program << " [--preset 4D] [--config FILE] [--set key=value ...] [--out DIR] [--from FILE] [--replace]\n\n"
         << opts << "\nConfiguration keys (SI units; file sections are the part before the dot):\n"
         << simple_shear_schema().help_text();
     return std::nullopt;
@@ -32,6 +33,8 @@ std::optional<ShearCommandLine> parse_shear_command_line(int argc, char** argv, 
   cli.resolved_json = config.to_json();
   cli.out_dir = vm["out"].as<std::string>();
   cli.from = detail::restart_file(vm);
+  cli.replace = vm.count("replace") > 0;
+  cli.configuration = config;
   return cli;
 }
 

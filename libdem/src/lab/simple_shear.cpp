@@ -50,13 +50,23 @@ std::vector<std::string> history_columns(std::size_t rings, int bins) {
   return c;
 }
 
+// Store indices of the balls (not pebbles), by ascending id: the order they were added in.
+std::vector<std::size_t> balls_by_id(const ParticleStore& p) {
+  std::vector<std::pair<ParticleId, std::size_t>> by_id;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (!p.is_pebble(i)) by_id.emplace_back(p.id[i], i);
+  std::sort(by_id.begin(), by_id.end());
+  std::vector<std::size_t> indices;
+  for (const auto& entry : by_id) indices.push_back(entry.second);
+  return indices;
+}
+
 }  // namespace
 
 SimpleShearTest::SimpleShearTest(SimpleShearConfig config, std::filesystem::path out_dir, std::ostream& log)
     : config_(std::move(config)), out_dir_(std::move(out_dir)), log_(log), history_(std::vector<std::string>{"time"}) {
   config_.grading.validate("grading");
   require(config_.total_strain() > 0.0, "shear strain", config_.total_strain(), "> 0");
-  std::filesystem::create_directories(out_dir_);
   fabric_ = std::make_unique<FabricLog>(out_dir_ / "fabric.csv");
   snapshots_ = std::make_unique<SnapshotWriter>(out_dir_ / "snapshots");
   build_world();
@@ -101,16 +111,19 @@ void SimpleShearTest::build_world() {
   world_->add_controller([this](World& w) { control(w); });
 }
 
-void SimpleShearTest::set_contact_models(double friction, double rolling_friction, bool growing) {
+void SimpleShearTest::set_contact_models(double friction, double rolling_friction, bool growing, ModelChange change) {
   friction_now_ = friction;
   rolling_friction_now_ = rolling_friction;
-  world_->set_contact_model(ContactKind::BallBall,
-                            make_contact_model<RollingLinearLaw>(law_params(config_.ball_ball, friction, rolling_friction), "ball_ball"));
+  auto set = [&](ContactKind kind, std::shared_ptr<const ContactModel> model) {
+    if (change == ModelChange::KeepContacts) world_->retune_contact_model(kind, std::move(model));
+    else world_->set_contact_model(kind, std::move(model));
+  };
+  set(ContactKind::BallBall, make_contact_model<RollingLinearLaw>(law_params(config_.ball_ball, friction, rolling_friction), "ball_ball"));
   auto boundary = [&](const ContactTypeConfig& c) {
     return growing ? law_params(c, 0.0, 0.0) : law_params(c, c.friction, c.rolling_friction);
   };
-  world_->set_contact_model(ContactKind::BallFacet, make_contact_model<RollingLinearLaw>(boundary(config_.ball_facet), "ball_facet"));
-  world_->set_contact_model(ContactKind::BallPebble, make_contact_model<RollingLinearLaw>(boundary(config_.ball_pebble), "ball_pebble"));
+  set(ContactKind::BallFacet, make_contact_model<RollingLinearLaw>(boundary(config_.ball_facet), "ball_facet"));
+  set(ContactKind::BallPebble, make_contact_model<RollingLinearLaw>(boundary(config_.ball_pebble), "ball_pebble"));
 }
 
 double SimpleShearTest::plate_gap() const {
@@ -175,22 +188,67 @@ void SimpleShearTest::release_rings() {
   }
 }
 
+std::vector<double> SimpleShearTest::target_diameters() const {
+  const double radius = config_.diameter / 2;
+  std::mt19937_64 rng(config_.seed);
+  return sample_diameters(config_.grading, (1.0 - config_.porosity) * pi * radius * radius * config_.height, rng);
+}
+
 void SimpleShearTest::generate() {
   require(stage_ == ShearStage::Empty, "generate() stage", static_cast<int>(stage_), "0 (empty world)");
+  open_outputs_if_needed();
   const auto t0 = std::chrono::steady_clock::now();
   const double radius = config_.diameter / 2, height = config_.height;
   const double cavity = pi * radius * radius * height;
-  std::mt19937_64 rng(config_.seed);
-  const std::vector<double> diameters = sample_diameters(config_.grading, (1.0 - config_.porosity) * cavity, rng);
+  const std::vector<double> diameters = target_diameters();
   double solid = 0.0;
   for (double d : diameters) solid += pi / 6 * d * d * d;
-  generated_porosity_ = 1.0 - solid / cavity;
-  ball_count_ = diameters.size();
-  log_ << "generation: " << ball_count_ << " balls, d = " << config_.grading.smallest() * 1e3 << "-"
-       << config_.grading.largest() * 1e3 << " mm, porosity " << generated_porosity_ << ", H/d_max = "
-       << height / config_.grading.largest() << "\n";
+  if (generating_) {  // resumed from a restart file written during the generation
+    require(diameters.size() == ball_count_, "grading and specimen.seed", std::to_string(diameters.size()) + " balls",
+            "the " + std::to_string(ball_count_) + " balls of the restart file's generation");
+  } else {
+    generated_porosity_ = 1.0 - solid / cavity;
+    ball_count_ = diameters.size();
+    log_ << "generation: " << ball_count_ << " balls, d = " << config_.grading.smallest() * 1e3 << "-"
+         << config_.grading.largest() * 1e3 << " mm, porosity " << generated_porosity_ << ", H/d_max = "
+         << height / config_.grading.largest() << "\n";
+    place_half_size_balls(diameters);
+    // Expansion to full size in stages, with the generation friction on the ball-ball contacts
+    // (plates and rings frictionless), cycling towards equilibrium in between. With the servo
+    // plate the specimen grows against a low stress instead of a closed cavity.
+    set_contact_models(config_.generation_friction, config_.generation_rolling_friction, true);
+    if (config_.generation_servo) {
+      ServoSettings servo = servo_settings();
+      servo.target_stress = config_.generation_stress;
+      servo.max_speed = config_.generation_servo_max_speed;
+      servo_ = std::make_shared<ServoWall>(top_, servo);
+      generation_floor_ = true;
+    }
+    generating_ = true;
+    generation_ = {};
+  }
+  expand_radii(diameters);
+  if (config_.generation_servo) friction_schedule();
+  generating_ = false;
+  generation_ = {};  // as a run resumed after the generation has it
+  generation_floor_ = false;
+  generated_state_ = specimen_state();
+  release_rings();
+  set_contact_models(config_.ball_ball.friction, config_.ball_ball.rolling_friction, false);
+  stage_ = ShearStage::Generated;
+  wall_seconds_ += seconds_since(t0);
+  log_ << "generation done in " << seconds_since(t0) << " s, " << world_->step_count() << " steps: porosity "
+       << generated_state_.porosity << " (target " << config_.porosity << "), coordination "
+       << generated_state_.coordination_number << ", K0 " << generated_state_.k0 << ", vertical stress "
+       << generated_state_.vertical_stress / 1e3 << " kPa, height " << generated_state_.height * 1e3 << " mm\n";
+  require_no_escape();
+}
 
+void SimpleShearTest::place_half_size_balls(const std::vector<double>& diameters) {
   // Half-size balls at random, without overlap (solid fraction (1 - n)/8 ~ 0.08: few rejections).
+  const double radius = config_.diameter / 2, height = config_.height;
+  std::mt19937_64 rng(config_.seed);
+  static_cast<void>(sample_diameters(config_.grading, (1.0 - config_.porosity) * pi * radius * radius * height, rng));
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const double cell = config_.grading.largest() / 2;
   std::unordered_map<std::int64_t, std::vector<std::size_t>> cells;
@@ -223,63 +281,60 @@ void SimpleShearTest::generate() {
       break;
     }
   }
-  std::vector<ParticleId> ids;
   for (std::size_t n = 0; n < placed.size(); ++n) {
     BallSpec b;
     b.position = placed[n];
     b.radius = placed_r[n];
     b.density = config_.density;
-    ids.push_back(world_->add_ball(b));
+    world_->add_ball(b);
   }
+}
 
-
-  // Expansion to full size in stages, with the generation friction on the ball-ball contacts
-  // (plates and rings frictionless), cycling towards equilibrium in between. With the servo plate
-  // the specimen grows against a low stress instead of a closed cavity.
-  set_contact_models(config_.generation_friction, config_.generation_rolling_friction, true);
-  if (config_.generation_servo) {
-    ServoSettings servo = servo_settings();
-    servo.target_stress = config_.generation_stress;
-    servo.max_speed = config_.generation_servo_max_speed;
-    servo_ = std::make_shared<ServoWall>(top_, servo);
-    generation_floor_ = true;
-  }
-  // Each stage grows the radii in small increments (a jump would overlap neighbours by a large
-  // fraction of a radius and trip the instability check), then cycles towards equilibrium.
+// Each stage grows the radii in small increments (a jump would overlap neighbours by a large
+// fraction of a radius and trip the instability check), then cycles towards equilibrium. The
+// loop counters live in generation_, so that a restart file written between any two chunks
+// resumes the generation where it was.
+void SimpleShearTest::expand_radii(const std::vector<double>& diameters) {
   constexpr int increments = 10;
   constexpr std::int64_t steps_per_increment = 50;
-  for (int stage = 1; stage <= config_.expansion_stages; ++stage) {
-    double factor = 0.5;
-    for (int inc = 1; inc <= increments; ++inc) {
-      factor = 0.5 + 0.5 * ((stage - 1) + static_cast<double>(inc) / increments) / config_.expansion_stages;
+  require(balls_by_id(world_->particles()).size() == diameters.size(), "generation: balls in the world",
+          balls_by_id(world_->particles()).size(), std::to_string(diameters.size()) + ", one per target diameter");
+  GenerationProgress& g = generation_;
+  for (; g.phase <= GenerationProgress::Settling && g.stage <= config_.expansion_stages;
+       ++g.stage, g.increment = 0, g.phase = GenerationProgress::Expanding) {
+    double factor = 0.5 + 0.5 * ((g.stage - 1) + static_cast<double>(g.increment) / increments) / config_.expansion_stages;
+    while (g.phase == GenerationProgress::Expanding && g.increment < increments) {
+      ++g.increment;
+      factor = 0.5 + 0.5 * ((g.stage - 1) + static_cast<double>(g.increment) / increments) / config_.expansion_stages;
       ParticleStore& p = world_->particles();
-      for (std::size_t n = 0; n < ids.size(); ++n) p.set_radius(p.index_of(ids[n]), factor * diameters[n] / 2);
+      std::size_t n = 0;  // diameters are in the order the balls were added, which is their ids'
+      for (std::size_t index : balls_by_id(p)) p.set_radius(index, factor * diameters[n++] / 2);
       world_->invalidate_contacts();
       world_->update_time_step();
       world_->step(steps_per_increment);
+      if (g.increment == increments) g.phase = GenerationProgress::Settling, g.settled_steps = 0;
+      maybe_save_restart();
     }
-    for (long s = 0; s < config_.expansion_steps; s += 100) {
-      world_->step(100);
-      if (world_->unbalanced_force_ratio() < config_.equilibrium_ratio) break;
-    }
+    settle_generation([&] { return world_->unbalanced_force_ratio() < config_.equilibrium_ratio; });
     std::ostringstream detail;
-    detail << "stage " << stage << "/" << config_.expansion_stages << ", radius x" << factor << ", unbalanced ratio "
+    detail << "stage " << g.stage << "/" << config_.expansion_stages << ", radius x" << factor << ", unbalanced ratio "
            << world_->unbalanced_force_ratio() << ", top plate " << world_->wall(top_).normal_stress() / 1e3
            << " kPa, porosity " << specimen_state().porosity;
     log_ << "[generation] " << detail.str() << std::endl;
   }
-  if (config_.generation_servo) friction_schedule();
-  generation_floor_ = false;
-  generated_state_ = specimen_state();
-  release_rings();
-  set_contact_models(config_.ball_ball.friction, config_.ball_ball.rolling_friction, false);
-  stage_ = ShearStage::Generated;
-  wall_seconds_ += seconds_since(t0);
-  log_ << "generation done in " << seconds_since(t0) << " s, " << world_->step_count() << " steps: porosity "
-       << generated_state_.porosity << " (target " << config_.porosity << "), coordination "
-       << generated_state_.coordination_number << ", K0 " << generated_state_.k0 << ", vertical stress "
-       << generated_state_.vertical_stress / 1e3 << " kPa, height " << generated_state_.height * 1e3 << " mm\n";
-  require_no_escape();
+  if (g.phase <= GenerationProgress::Settling) g.phase = GenerationProgress::FirstSettle, g.settled_steps = 0;
+}
+
+void SimpleShearTest::settle_generation(const std::function<bool()>& done) {
+  // Checked after each chunk, before a restart may be written: a resumed settle goes on exactly
+  // when the uninterrupted one did.
+  while (generation_.settled_steps < config_.expansion_steps) {
+    world_->step(100);
+    if (done()) break;
+    generation_.settled_steps += 100;
+    maybe_save_restart();
+  }
+  generation_.settled_steps = 0;
 }
 
 // A frictional packing grown against a low stress is looser than the target when its friction
@@ -289,25 +344,31 @@ void SimpleShearTest::generate() {
 void SimpleShearTest::friction_schedule() {
   // A few kPa on a loose packing fluctuates by more than the consolidation tolerance, so settled
   // here means in equilibrium with the plate stress within 10 % of its target.
-  auto settle = [&] {
-    for (long s = 0; s < config_.expansion_steps; s += 100) {
-      world_->step(100);
-      if (world_->unbalanced_force_ratio() < config_.equilibrium_ratio &&
-          std::abs(servo_->achieved_stress() - config_.generation_stress) <= 0.1 * config_.generation_stress)
-        break;
-    }
+  auto settled = [&] {
+    return world_->unbalanced_force_ratio() < config_.equilibrium_ratio &&
+           std::abs(servo_->achieved_stress() - config_.generation_stress) <= 0.1 * config_.generation_stress;
   };
-  settle();
-  double mu = friction_now_, mu_r = rolling_friction_now_;
-  const double smallest = 1e-2 * std::max(mu, mu_r);
-  while (specimen_state().porosity > config_.porosity + config_.generation_porosity_tolerance && (mu > 0 || mu_r > 0)) {
-    mu *= config_.generation_friction_reduction;
-    mu_r *= config_.generation_friction_reduction;
-    if (std::max(mu, mu_r) < smallest) mu = mu_r = 0.0;
-    set_contact_models(mu, mu_r, true);
-    settle();
-    log_ << "[generation] friction schedule: mu " << mu << ", mu_r " << mu_r << ", porosity " << specimen_state().porosity
-         << ", top plate " << world_->wall(top_).normal_stress() / 1e3 << " kPa" << std::endl;
+  GenerationProgress& g = generation_;
+  if (g.phase == GenerationProgress::FirstSettle) {
+    settle_generation(settled);
+    g.phase = GenerationProgress::Reducing;
+  }
+  const double smallest = 1e-2 * std::max(config_.generation_friction, config_.generation_rolling_friction);
+  while (true) {
+    if (g.phase == GenerationProgress::Reducing) {
+      double mu = friction_now_, mu_r = rolling_friction_now_;
+      if (!(specimen_state().porosity > config_.porosity + config_.generation_porosity_tolerance && (mu > 0 || mu_r > 0))) break;
+      mu *= config_.generation_friction_reduction;
+      mu_r *= config_.generation_friction_reduction;
+      if (std::max(mu, mu_r) < smallest) mu = mu_r = 0.0;
+      set_contact_models(mu, mu_r, true);
+      g.phase = GenerationProgress::ScheduleSettle;
+      g.settled_steps = 0;
+    }
+    settle_generation(settled);
+    g.phase = GenerationProgress::Reducing;
+    log_ << "[generation] friction schedule: mu " << friction_now_ << ", mu_r " << rolling_friction_now_ << ", porosity "
+         << specimen_state().porosity << ", top plate " << world_->wall(top_).normal_stress() / 1e3 << " kPa" << std::endl;
   }
   const double porosity = specimen_state().porosity;
   if (porosity > config_.porosity + config_.generation_porosity_tolerance)
@@ -319,21 +380,27 @@ void SimpleShearTest::friction_schedule() {
 
 void SimpleShearTest::consolidate() {
   require(stage_ == ShearStage::Generated, "consolidate() stage", static_cast<int>(stage_), "1 (generated)");
+  open_outputs_if_needed();
   const auto t0 = std::chrono::steady_clock::now();
-  if (!servo_) servo_ = std::make_shared<ServoWall>(top_, servo_settings());
-  servo_->set_target(config_.vertical_stress);
-  servo_->set_max_speed(config_.servo_max_speed);
-  const std::int64_t start = world_->step_count();
+  if (!consolidating_) {
+    if (!servo_) servo_ = std::make_shared<ServoWall>(top_, servo_settings());
+    servo_->set_target(config_.vertical_stress);
+    servo_->set_max_speed(config_.servo_max_speed);
+    consolidation_start_step_ = world_->step_count();
+    consolidating_ = true;
+  }
   bool settled = false;
-  while (world_->step_count() - start < config_.consolidation_max_steps) {
+  while (world_->step_count() - consolidation_start_step_ < config_.consolidation_max_steps) {
     world_->step(chunk_steps);
     settled = servo_->settled() && world_->unbalanced_force_ratio() < config_.equilibrium_ratio;
     if (settled) break;
+    maybe_save_restart();
     std::ostringstream detail;
     detail << "step " << world_->step_count() << ", vertical stress " << servo_->achieved_stress() / 1e3 << " kPa (target "
            << config_.vertical_stress / 1e3 << "), unbalanced ratio " << world_->unbalanced_force_ratio();
     progress("consolidation", detail.str());
   }
+  consolidating_ = false;
   if (!settled)
     log_ << "warning: consolidation did not settle within consolidation.max_steps = " << config_.consolidation_max_steps
          << " (stress " << servo_->achieved_stress() << " Pa, target " << config_.vertical_stress << " Pa)\n";
@@ -418,6 +485,7 @@ void SimpleShearTest::start_leg() {
 void SimpleShearTest::shear() {
   require(stage_ == ShearStage::Consolidated || stage_ == ShearStage::Shearing, "shear() stage", static_cast<int>(stage_),
           "2 (consolidated) or 3 (shearing)");
+  open_outputs_if_needed();
   const auto t0 = std::chrono::steady_clock::now();
   if (stage_ == ShearStage::Consolidated) {
     stage_ = ShearStage::Shearing;

@@ -13,6 +13,7 @@
 #include <dem/io/checkpoint.hpp>
 #include <dem/io/json.hpp>
 #include <dem/lab/fabric_log.hpp>
+#include <dem/lab/resume_rules.hpp>
 #include <dem/lab/simple_shear.hpp>
 #include <dem/lab/snapshots.hpp>
 #include <dem/measure/shear_uniformity.hpp>
@@ -192,6 +193,15 @@ std::string SimpleShearTest::protocol_state() const {
       << "\nprevious_relative_y " << previous_relative_.y() << "\nwall_seconds " << wall_seconds_
       << "\nsteps_at_shear_start " << steps_at_shear_start_ << "\nhistory_rows " << history_.rows().size()
       << "\nservo " << (servo_ ? 1 : 0) << "\nservo_holding " << (servo_ && servo_->holding_position() ? 1 : 0) << "\n";
+  if (servo_)
+    out << "servo_target " << servo_->settings().target_stress << "\nservo_max_speed " << servo_->settings().max_speed
+        << "\nservo_steps_on_target " << servo_->steps_on_target() << "\n";
+  // Generation and consolidation in progress (restart files written during them).
+  out << "generating " << (generating_ ? 1 : 0) << "\ngeneration_floor " << (generation_floor_ ? 1 : 0)
+      << "\ngeneration_phase " << generation_.phase << "\ngeneration_stage " << generation_.stage
+      << "\ngeneration_increment " << generation_.increment << "\ngeneration_settled_steps " << generation_.settled_steps
+      << "\nfriction_now " << friction_now_ << "\nrolling_friction_now " << rolling_friction_now_ << "\nconsolidating "
+      << (consolidating_ ? 1 : 0) << "\nconsolidation_start_step " << consolidation_start_step_ << "\n";
   out << "profile_bottom_x " << profile_bottom_.x() << "\nprofile_bottom_y " << profile_bottom_.y() << "\nprofile_bottom_z "
       << profile_bottom_.z() << "\nprofile_top_x " << profile_top_.x() << "\nprofile_top_y " << profile_top_.y()
       << "\nprofile_top_z " << profile_top_.z() << "\n";
@@ -201,6 +211,9 @@ std::string SimpleShearTest::protocol_state() const {
         << state->mechanical_coordination_number << "\n" << name << "_vertical_stress " << state->vertical_stress << "\n"
         << name << "_k0 " << state->k0 << "\n" << name << "_height " << state->height << "\n" << name << "_friction "
         << state->friction << "\n" << name << "_rolling_friction " << state->rolling_friction << "\n";
+  // The configuration the file was made with (record_configuration), one "key = value" per line.
+  out << "configuration " << configuration_.size() << "\n";
+  for (const auto& [key, value] : configuration_) out << key << " = " << value << "\n";
   // Last: the positions that start the current profile interval, one line per ball id.
   out << "profile_reference " << profile_reference_.size() << "\n";
   for (const Vec3& x : profile_reference_) out << x.x() << " " << x.y() << " " << x.z() << "\n";
@@ -212,8 +225,21 @@ void SimpleShearTest::restore_protocol_state(const std::string& text) {
   std::istringstream in(text);
   std::string key, token;
   profile_reference_.clear();
+  file_configuration_.clear();
   while (in >> key >> token) {
     const double value = std::strtod(token.c_str(), nullptr);  // "nan" too: states of older runs
+    if (key == "configuration") {  // a count, then that many "key = value" lines
+      require(value >= 0 && value <= 1e4, "restart file: configuration count", value, "a count of keys (<= 10000)");
+      std::string line;
+      std::getline(in, line);
+      for (long k = 0; k < static_cast<long>(value); ++k) {
+        require(static_cast<bool>(std::getline(in, line)), "restart file: configuration", "(truncated)", "one line per key");
+        const auto eq = line.find(" = ");
+        require(eq != std::string::npos, "restart file: configuration line", line, "key = value");
+        file_configuration_.emplace_back(line.substr(0, eq), line.substr(eq + 3));
+      }
+      continue;
+    }
     if (key == "profile_reference") {  // a count, then that many positions
       require(value >= 0 && value <= 1e9, "restart file: profile_reference count", value, "a count of balls");
       profile_reference_.resize(static_cast<std::size_t>(value));
@@ -265,7 +291,7 @@ void SimpleShearTest::restore_protocol_state(const std::string& text) {
   // Keep the history written up to the restart point; later rows belong to the run that stopped.
   history_ = io::CsvTable(history_.columns(), io::Missing::Allowed);
   if (rows > 0) {
-    const io::CsvData old = io::read_csv(out_dir_ / "history.csv", io::Missing::Allowed);
+    const io::CsvData old = io::read_csv(restart_folder_ / "history.csv", io::Missing::Allowed);
     require(old.rows.size() >= rows, "history.csv rows", old.rows.size(), ">= " + std::to_string(rows) + " (as in the restart file)");
     // Columns by name: a history written before a column existed gets nan in it.
     std::vector<std::ptrdiff_t> source;
@@ -280,11 +306,86 @@ void SimpleShearTest::restore_protocol_state(const std::string& text) {
       history_.add_row(row);
     }
   }
+  if (get("servo") > 0) {
+    ServoSettings settings = servo_settings();
+    if (v.count("servo_target")) settings.target_stress = get("servo_target"), settings.max_speed = get("servo_max_speed");
+    servo_ = std::make_shared<ServoWall>(top_, settings);
+    servo_->hold_position(get("servo_holding") > 0);
+    if (v.count("servo_steps_on_target")) {
+      const double on_target = get("servo_steps_on_target");
+      require(on_target >= 0 && on_target <= 9e15, "restart file: servo_steps_on_target", on_target, "a count of steps >= 0");
+      servo_->resume_steps_on_target(static_cast<std::int64_t>(on_target));
+    }
+  }
+  auto flag = [&](const std::string& k) { return v.count(k) && v.at(k) > 0; };
+  generating_ = flag("generating");
+  generation_floor_ = flag("generation_floor");
+  consolidating_ = flag("consolidating");
+  if (generating_) {
+    generation_.phase = static_cast<int>(get("generation_phase"));
+    generation_.stage = static_cast<int>(get("generation_stage"));
+    generation_.increment = static_cast<int>(get("generation_increment"));
+    generation_.settled_steps = static_cast<long>(get("generation_settled_steps"));
+    require(generation_.phase >= GenerationProgress::Expanding && generation_.phase <= GenerationProgress::ScheduleSettle,
+            "restart file: generation_phase", generation_.phase, "0 to 4");
+    require(generation_.stage >= 1 && generation_.increment >= 0 && generation_.increment <= 10 && generation_.settled_steps >= 0,
+            "restart file: generation_stage, generation_increment, generation_settled_steps",
+            std::to_string(generation_.stage) + ", " + std::to_string(generation_.increment) + ", " +
+                std::to_string(generation_.settled_steps),
+            "a stage >= 1, an increment in 0..10 and a step count >= 0");
+    friction_now_ = get("friction_now");
+    rolling_friction_now_ = get("rolling_friction_now");
+  }
+  if (v.count("consolidation_start_step")) consolidation_start_step_ = static_cast<std::int64_t>(get("consolidation_start_step"));
+}
+
+RunProgress SimpleShearTest::progress_made() const {
+  switch (stage_) {
+    case ShearStage::Empty: return RunProgress::Generating;
+    case ShearStage::Generated: return consolidating_ ? RunProgress::Consolidating : RunProgress::Generated;
+    case ShearStage::Consolidated: return RunProgress::Consolidated;
+    case ShearStage::Shearing: return RunProgress::Shearing;
+    case ShearStage::Done: return RunProgress::Done;
+  }
+  return RunProgress::Generating;
+}
+
+std::vector<std::string> SimpleShearTest::run_files() {
+  return {"history.csv", "summary.json", "fabric.csv", "snapshots", "restart.restart", "consolidated.restart",
+          "final.restart"};
+}
+
+void SimpleShearTest::record_configuration(const io::Config& resolved) { configuration_ = configuration_record(resolved); }
+
+void SimpleShearTest::open_outputs(const OutputOptions& options) {
+  require(!folder_, "open_outputs()", "called twice", "once per run");
+  const bool own = !restart_folder_.empty() && same_folder(restart_folder_, out_dir_);
+  io::OutputFolderPolicy policy;
+  policy.replace = options.replace;
+  policy.continues_own_run = own;
+  policy.run_files = run_files();
+  policy.replace_option = options.replace_option;
+  policy.program = options.program;
+  folder_ = std::make_unique<io::OutputFolder>(out_dir_, policy);
+  for (const std::string& name : folder_->replaced()) log_ << "removed " << (out_dir_ / name).string() << " of the run the folder held\n";
+  if (folder_->leftovers_removed() > 0)
+    log_ << "removed " << folder_->leftovers_removed() << " temporary file(s) left by a killed run\n";
+  if (restart_folder_.empty()) return;
+  // A restart from another folder (a second shear of one consolidated specimen) brings the
+  // outputs written up to it, which the restored protocol continues.
+  if (!own) copy_run_files(restart_folder_, out_dir_);
   fabric_->resume(next_fabric_);
   snapshots_->resume(next_snapshot_);
-  if (get("servo") > 0) {
-    servo_ = std::make_shared<ServoWall>(top_, servo_settings());
-    servo_->hold_position(get("servo_holding") > 0);
+}
+
+void SimpleShearTest::apply_configuration_record(const std::vector<std::pair<std::string, std::string>>& file_record,
+                                                 const std::filesystem::path& file, ResumeIntent intent) {
+  if (file_record.empty() || configuration_.empty()) return;  // a file or a run without a record
+  const std::vector<ResumeChange> changes = check_resume(file_record, configuration_, progress_made(),
+                                                         intent == ResumeIntent::Reconsolidate, "restart file " + file.string());
+  for (const ResumeChange& c : changes) {
+    log_ << "applied " << c.key << " = " << c.new_value << " (the restart file had " << c.file_value << ")\n";
+    resume_changes_.push_back({c.key, c.file_value, c.new_value});
   }
 }
 
@@ -315,20 +416,26 @@ void SimpleShearTest::require_configured_grading(const std::filesystem::path& fi
           "restart file " + file.string() + ": ball diameters", found.str(), allowed.str());
 }
 
-void SimpleShearTest::load_restart(const std::filesystem::path& file) {
+void SimpleShearTest::load_restart(const std::filesystem::path& file, ResumeIntent intent) {
+  require(!folder_, "load_restart() after the output folder was opened", file.string(), "a restart loaded before any stage ran");
+  std::error_code error;
+  if (std::filesystem::is_directory(file, error))
+    throw InputError("restart file " + file.string() + " is a folder: give the restart file in it, e.g. " +
+                     (file / "consolidated.restart").string() + " or " + (file / "restart.restart").string());
   build_world();  // walls, rings and contact models as configured; the file supplies the state
   const World as_configured = *world_;
   const std::string protocol = io::load_checkpoint(file, *world_);
-  require_configured_grading(file);  // before anything is copied into this run's folder
-  apply_restart_keys(as_configured, file);
-  // A restart from another folder (a second shear of one consolidated specimen) brings the
-  // outputs written up to it, which the restored protocol continues.
-  const std::filesystem::path source = std::filesystem::absolute(file).parent_path();
-  if (!same_folder(source, out_dir_)) copy_run_files(source, out_dir_);
+  restart_folder_ = std::filesystem::absolute(file).parent_path();
   restore_protocol_state(protocol);
+  apply_configuration_record(file_configuration_, file, intent);
+  if (!generating_) require_configured_grading(file);  // balls still growing are smaller than the grading's
+  apply_restart_keys(as_configured, file);
+  // A generation resumes with the friction it had reached; the contact lists and their history
+  // stay as the file has them (no rebuild that the uninterrupted run did not do).
+  if (generating_) set_contact_models(friction_now_, rolling_friction_now_, true, ModelChange::KeepContacts);
   if (stage_ >= ShearStage::Generated) release_rings();  // rings.vertical from this configuration
   log_ << "resumed from " << file.string() << " at step " << world_->step_count() << ", time step " << world_->time_step()
-       << " s (stage " << static_cast<int>(stage_) << ", shear strain " << path_strain_ << ")\n";
+       << " s (" << to_string(progress_made()) << ", shear strain " << path_strain_ << ")\n";
 }
 
 void SimpleShearTest::write_summary(const std::string& resolved_config_json) const {
@@ -452,6 +559,16 @@ void SimpleShearTest::write_summary(const std::string& resolved_config_json) con
   j["threads"] = world_->threads();
   j["time_step_s"] = world_->time_step();
   j["configuration"] = io::Json::parse(resolved_config_json);
+  if (!restart_folder_.empty()) {
+    io::Json changed;
+    for (const auto& [key, before, after] : resume_changes_) {
+      io::Json c;
+      c["restart_file"] = before;
+      c["this_run"] = after;
+      changed[key] = c;
+    }
+    j["resume_changed_keys"] = changed;
+  }
   j.save(out_dir_ / "summary.json");
   if (h_over_d <= 10.0)
     log_ << "warning: H/d_max = " << h_over_d << " is not above 10 (ASTM D6528 as quoted by the study)\n";

@@ -85,6 +85,8 @@ class ServoWall {
   /// true once the stress has been on target for settle_steps consecutive steps (ends a
   /// consolidation stage).
   bool settled() const { return steps_on_target_ >= settings_.settle_steps; }
+  /// Continues the count of a servo restored from a restart file (>= 0).
+  void resume_steps_on_target(std::int64_t steps);
 
   WallId wall() const { return wall_; }
   const ServoSettings& settings() const { return settings_; }

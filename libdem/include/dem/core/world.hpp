@@ -72,7 +72,12 @@ class World {
   ParticleId add_ball(const BallSpec& spec);
   ClumpId add_clump(const ClumpSpec& spec);
   WallId add_wall(FacetWall wall);
+  /// The law of a contact kind; the contacts' states are made for it at the next rebuild.
   void set_contact_model(ContactKind kind, std::shared_ptr<const ContactModel> model);
+  /// New parameters for the law in use on `kind` (the same law_name()): the contact lists and
+  /// their history are kept as they are, with no rebuild, so a restored state continues exactly
+  /// as the run that wrote it. InputError for another law or for a kind without a law.
+  void retune_contact_model(ContactKind kind, std::shared_ptr<const ContactModel> model);
   const ContactModel* contact_model(ContactKind kind) const { return models_[static_cast<int>(kind)].get(); }
 
   // --- running ------------------------------------------------------------------------------

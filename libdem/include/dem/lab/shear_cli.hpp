@@ -18,6 +18,8 @@ struct ShearCommandLine {
   std::string resolved_json;      // every key, for summary.json and --print-config
   std::filesystem::path out_dir;  // --out
   std::filesystem::path from;     // --from restart file, empty if none
+  bool replace = false;           // --replace: remove another run's results in --out
+  std::optional<io::Config> configuration;  // resolved, for SimpleShearTest::record_configuration
 };
 
 /// Parses argv. Returns nullopt when the program should stop successfully (--help or

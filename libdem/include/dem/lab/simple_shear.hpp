@@ -18,12 +18,19 @@
 // between the plates (rings.vertical, docs/model.md 4). History rows also measure how uniformly the
 // specimen shears (docs/model.md 8.1); a ball that leaves the specimen stops the run.
 //
-// Runs are steps in chunks of `chunk_steps`; outputs and restart files are written only between
-// chunks, so a run resumed from a restart file repeats the uninterrupted run exactly.
+// Runs are steps in chunks; outputs and restart files are written only between chunks, in every
+// stage (generation, consolidation, shear), so a run resumed from a restart file repeats the
+// uninterrupted run exactly. docs/restart.md says which keys a resumed run may change.
+//
+// The output folder is claimed (io/output_folder.hpp: locked, checked writable, refused when it
+// holds another run) by open_outputs(), or by the first stage that writes; nothing in it is
+// touched before, so a refused restart or configuration leaves the folder as it was.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <iosfwd>
 #include <memory>
 #include <string>
@@ -31,7 +38,10 @@
 
 #include <dem/boundary/servo_wall.hpp>
 #include <dem/core/world.hpp>
+#include <dem/io/config.hpp>
 #include <dem/io/csv.hpp>
+#include <dem/io/output_folder.hpp>
+#include <dem/lab/resume_rules.hpp>
 #include <dem/lab/simple_shear_config.hpp>
 #include <dem/measure/measurement_sphere.hpp>
 
@@ -41,6 +51,18 @@ class FabricLog;
 class SnapshotWriter;
 
 enum class ShearStage : int { Empty = 0, Generated = 1, Consolidated = 2, Shearing = 3, Done = 4 };
+
+/// What a restart file is loaded for: to continue the run that wrote it, or to consolidate a
+/// consolidated specimen again with new contact parameters (reconsolidate(); dem-consolidate
+/// --from), which may then differ from the file's, as may the consolidation keys and the time step.
+enum class ResumeIntent { Continue, Reconsolidate };
+
+/// How the output folder is claimed (io::OutputFolderPolicy).
+struct OutputOptions {
+  bool replace = false;                  // remove the results of another run in the folder
+  std::string program = "libdem";        // named in the lock file
+  std::string replace_option = "--replace";
+};
 
 /// One history row (SI; stresses compression positive, as soil mechanics quotes them).
 struct ShearState {
@@ -97,17 +119,28 @@ class SimpleShearTest {
   /// Whatever remains of generate, consolidate and shear, then the summary.
   void run();
 
-  /// Writes the world and the protocol's progress (atomically).
+  /// Writes the world, the protocol's progress and the recorded configuration (atomically).
   void save_restart(const std::filesystem::path& file) const;
-  /// Continues from a restart file of the same configuration: after generation, after
-  /// consolidation, or anywhere in the shear. Keys the file also carries are applied from this
-  /// configuration (engine.local_damping, engine.time_step when fixed, engine.max_overlap_ratio,
-  /// rings.density, rings.vertical) or, where they describe the specimen itself (specimen.density,
-  /// specimen.diameter, specimen.height, the ring geometry, engine.time_step_safety), refused with
-  /// an InputError naming the key when they differ. Outputs already written past the restart point
-  /// are trimmed so that they match the resumed run. A restart in another folder than this run's
-  /// brings its outputs along: history.csv, fabric.csv and snapshots/ are copied here first.
-  void load_restart(const std::filesystem::path& file);
+  /// The resolved configuration this run was made from (every key); restart files carry it, and a
+  /// restart loaded later is checked against it key by key (docs/restart.md). Without it (a test
+  /// built from the struct alone) only the specimen checks of load_restart apply.
+  void record_configuration(const io::Config& resolved);
+  /// Continues from a restart file: anywhere in the generation, the consolidation or the shear.
+  /// When both the file and this run have a recorded configuration, a key that changes what is
+  /// already done (docs/restart.md: geometry, grading, densities, contact parameters and engine
+  /// keys of the stages already run, the time step) is refused with an InputError that names every
+  /// such key with the file's value and this run's; the keys that may change are applied, logged
+  /// and listed in summary.json. Independently of the record, the specimen's ball sizes, density,
+  /// height and ring stack must match this configuration's. Nothing is written: open_outputs()
+  /// (or the first stage) trims the outputs written past the restart point and, for a restart in
+  /// another folder, first copies its history.csv, fabric.csv and snapshots/ here.
+  void load_restart(const std::filesystem::path& file, ResumeIntent intent = ResumeIntent::Continue);
+  /// Claims the output folder (io/output_folder.hpp) and brings the outputs of a loaded restart up
+  /// to its point. Called by the first stage that writes if not before; call it earlier to claim
+  /// the folder before any work, with the options of the command line.
+  void open_outputs(const OutputOptions& options = {});
+  /// The files and folders, relative to the output folder, that hold a run's results.
+  static std::vector<std::string> run_files();
 
   /// The current state, measured now.
   ShearState measure() const;
@@ -118,7 +151,8 @@ class SimpleShearTest {
   /// Balls whose centre has left the specimen: beyond the inner radius of the ring at its height
   /// plus a pebble radius, or beyond a plate. Each history row counts them; any stops the run.
   std::size_t balls_outside() const;
-  /// summary.json: counts, porosity, ASTM D6528 ratios, peak and final values, timing.
+  /// summary.json: counts, porosity, ASTM D6528 ratios, peak and final values, timing, and the
+  /// keys a resume changed.
   void write_summary(const std::string& resolved_config_json) const;
 
   const World& world() const { return *world_; }
@@ -131,16 +165,33 @@ class SimpleShearTest {
   double generated_porosity() const { return generated_porosity_; }
   static constexpr std::int64_t chunk_steps = 10;
 
+  /// Where the generation is (restart files written during it resume here): the expansion stage
+  /// and increment, the steps settled so far, and the friction schedule's round.
+  struct GenerationProgress {
+    enum Phase : int { Expanding = 0, Settling = 1, FirstSettle = 2, Reducing = 3, ScheduleSettle = 4 };
+    int phase = Expanding;
+    int stage = 1;          // expansion stage, 1..generation.stages
+    int increment = 0;      // radius increments done in the stage
+    long settled_steps = 0; // steps of the current settle so far
+  };
+
  private:
   void build_world();
+  enum class ModelChange { Rebuild, KeepContacts };
   /// Ball-ball with the given friction (the plates and rings frictionless while `growing`).
-  void set_contact_models(double friction, double rolling_friction, bool growing);
+  /// KeepContacts: the same laws with these parameters, the contact lists left as they are.
+  void set_contact_models(double friction, double rolling_friction, bool growing, ModelChange change = ModelChange::Rebuild);
   /// The one controller of the protocol, every step: the servo, the generation floor of the top
   /// plate, then the ring kinematics (rings.vertical), which read the plate velocities just set.
   void control(World& world);
   void move_rings(World& world) const;
   void release_rings();
   void friction_schedule();
+  /// Steps the settle of the generation (generation.steps_per_stage at most) until `done`.
+  void settle_generation(const std::function<bool()>& done);
+  void place_half_size_balls(const std::vector<double>& diameters);
+  void expand_radii(const std::vector<double>& diameters);
+  std::vector<double> target_diameters() const;
   void require_no_escape() const;
   void apply_restart_keys(const World& as_configured, const std::filesystem::path& file);
   double plate_gap() const;  // m, top minus bottom plate height
@@ -149,9 +200,16 @@ class SimpleShearTest {
   std::vector<double> uniformity_columns(const ShearState& s);
   void record_outputs(bool force);
   void maybe_save_restart();
+  void open_outputs_if_needed() {
+    if (!folder_) open_outputs();
+  }
+  /// Applies or refuses the keys of a restart's recorded configuration (docs/restart.md).
+  void apply_configuration_record(const std::vector<std::pair<std::string, std::string>>& file_record,
+                                  const std::filesystem::path& file, ResumeIntent intent);
   void progress(const std::string& stage, const std::string& detail) const;
   std::string protocol_state() const;
   void restore_protocol_state(const std::string& text);
+  RunProgress progress_made() const;
   void require_configured_grading(const std::filesystem::path& file) const;
   Vec3 leg_direction(std::size_t leg) const;
   ServoSettings servo_settings() const;
@@ -161,10 +219,19 @@ class SimpleShearTest {
 
   SimpleShearConfig config_;
   std::filesystem::path out_dir_;
+  std::unique_ptr<io::OutputFolder> folder_;   // claimed by open_outputs()
+  std::filesystem::path restart_folder_;       // folder of the loaded restart file, if any
+  std::vector<std::pair<std::string, std::string>> configuration_;  // key, value (record_configuration)
+  std::vector<std::pair<std::string, std::string>> file_configuration_;  // of the loaded restart file
+  std::vector<std::array<std::string, 3>> resume_changes_;          // key, file value, value now
   std::ostream& log_;
   std::unique_ptr<World> world_;
   std::shared_ptr<ServoWall> servo_;
   bool generation_floor_ = false;      // the top plate may not sink below specimen.height
+  bool generating_ = false;            // balls placed, generation under way
+  GenerationProgress generation_;
+  bool consolidating_ = false;         // consolidation under way
+  std::int64_t consolidation_start_step_ = 0;
   double pebble_radius_ = 0.0;         // m
   double friction_now_ = 0.0, rolling_friction_now_ = 0.0;  // ball-ball, as set
   SpecimenState generated_state_, consolidated_state_;

@@ -1,0 +1,206 @@
+// The resume contract (docs/restart.md): a restart file records its configuration; a resumed run
+// may not change what the file already holds, may change the rest (recorded in summary.json), and
+// a refused resume touches nothing in its output folder. Reduced specimen (about 170 balls).
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <dem/core/errors.hpp>
+#include <dem/io/json.hpp>
+#include <dem/lab/resume_rules.hpp>
+#include <dem/lab/simple_shear.hpp>
+
+#include "support/reduced_specimen.hpp"
+
+using namespace dem;
+using namespace dem::lab;
+namespace fs = std::filesystem;
+using Catch::Matchers::Contains;
+using testing::file_text;
+
+namespace {
+
+io::Config small_config() {
+  io::Config c = testing::reduced_specimen();
+  c.set("shear.target_strain", "0.01");
+  c.set("output.fabric_strains", "");
+  c.set("output.snapshot_strains", "");
+  c.set("output.restart_every_steps", "300");
+  return c;
+}
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("libdem_resume_" + name);
+  fs::remove_all(dir);
+  return dir;
+}
+
+// A consolidated specimen made once for the cases below, with its configuration recorded.
+const fs::path& consolidated_specimen() {
+  static const fs::path dir = [] {
+    const fs::path d = fresh_dir("specimen");
+    std::ostringstream log;
+    SimpleShearTest test(simple_shear_config(small_config()), d, log);
+    test.record_configuration(small_config());
+    test.generate();
+    test.consolidate();
+    return d;
+  }();
+  return dir;
+}
+
+// Loads the consolidated specimen under `c` into a fresh folder `name`.
+void load_under(const io::Config& c, const std::string& name, ResumeIntent intent = ResumeIntent::Continue) {
+  std::ostringstream log;
+  SimpleShearTest test(simple_shear_config(c), fresh_dir(name), log);
+  test.record_configuration(c);
+  test.load_restart(consolidated_specimen() / "consolidated.restart", intent);
+}
+
+using Record = std::vector<std::pair<std::string, std::string>>;
+
+}  // namespace
+
+TEST_CASE("resume rules: every configuration key has a rule", "[resume]") {
+  const io::Schema schema = simple_shear_schema();
+  for (const io::KeySpec& spec : schema.keys()) {
+    INFO(spec.key);
+    CHECK_NOTHROW(resume_rule(spec.key));
+  }
+}
+
+TEST_CASE("resume rules: what is done is fixed, what is to come and the outputs may change", "[resume]") {
+  // key, progress of the file, reconsolidation, allowed (docs/restart.md's table).
+  struct Case {
+    const char* key;
+    RunProgress progress;
+    bool reconsolidate, allowed;
+  };
+  const Case cases[] = {
+      {"specimen.diameter", RunProgress::Generating, false, false},
+      {"grading.scale", RunProgress::Consolidated, true, false},
+      {"rings.density", RunProgress::Generated, false, false},
+      {"generation.friction", RunProgress::Generating, false, false},
+      {"engine.local_damping", RunProgress::Consolidated, false, false},
+      {"engine.time_step", RunProgress::Shearing, false, false},
+      {"engine.time_step", RunProgress::Consolidated, true, true},
+      {"ball_ball.effective_modulus", RunProgress::Generated, false, false},
+      {"ball_ball.effective_modulus", RunProgress::Consolidated, true, true},
+      {"ball_ball.effective_modulus", RunProgress::Shearing, true, false},
+      {"ball_ball.friction", RunProgress::Generated, false, true},  // the generation used generation.friction
+      {"ball_ball.friction", RunProgress::Consolidating, false, false},
+      {"ball_pebble.friction", RunProgress::Consolidated, false, false},
+      {"consolidation.vertical_stress", RunProgress::Generated, false, true},
+      {"consolidation.vertical_stress", RunProgress::Consolidated, false, false},
+      {"consolidation.vertical_stress", RunProgress::Consolidated, true, true},
+      {"shear.mode", RunProgress::Consolidated, false, true},
+      {"shear.mode", RunProgress::Shearing, false, false},
+      {"shear.directions_deg", RunProgress::Shearing, false, false},
+      {"shear.target_strain", RunProgress::Shearing, false, true},
+      {"rings.vertical", RunProgress::Consolidated, false, true},
+      {"rings.vertical", RunProgress::Shearing, false, false},
+      {"measure.profile_bins", RunProgress::Consolidated, false, false},
+      {"measure.profile_bins", RunProgress::Generated, false, true},
+      {"output.volumetric_strain_sign", RunProgress::Shearing, false, false},
+      {"output.every_strain", RunProgress::Shearing, false, true},
+      {"output.restart_every_steps", RunProgress::Generating, false, true},
+      {"engine.threads", RunProgress::Shearing, false, true},
+      {"engine.max_overlap_ratio", RunProgress::Shearing, false, true},
+  };
+  for (const Case& c : cases) {
+    INFO(c.key << " at " << to_string(c.progress) << (c.reconsolidate ? " (reconsolidation)" : ""));
+    const Record file{{c.key, "1"}}, now{{c.key, "2"}};
+    if (c.allowed) {
+      const auto changes = check_resume(file, now, c.progress, c.reconsolidate, "restart file f");
+      REQUIRE(changes.size() == 1);
+      CHECK(changes[0].key == c.key);
+      CHECK(changes[0].file_value == "1");
+      CHECK(changes[0].new_value == "2");
+    } else {
+      CHECK_THROWS_WITH(check_resume(file, now, c.progress, c.reconsolidate, "restart file f"),
+                        Contains(std::string(c.key) + " = 2 here, 1 in the file") && Contains("restart file f") &&
+                            Contains(to_string(c.progress)));
+    }
+  }
+  // Unchanged keys and keys of another schema version pass without a word.
+  CHECK(check_resume({{"shear.mode", "drained"}, {"old.key", "1"}}, {{"shear.mode", "drained"}, {"new.key", "2"}},
+                     RunProgress::Done, false, "f")
+            .empty());
+}
+
+TEST_CASE("resume: a consolidated specimen refuses changed physics and geometry, naming every key and both values",
+          "[resume][simple-shear]") {
+  io::Config c = small_config();
+  c.set("ball_ball.friction", "0.3");
+  c.set("engine.local_damping", "0.1");
+  CHECK_THROWS_WITH(load_under(c, "refused_friction"),
+                    Contains("ball_ball.friction = 0.3 here, 0.5 in the file") &&
+                        Contains("engine.local_damping = 0.1 here, 0.7 in the file") && Contains("dem-consolidate --from"));
+
+  // The silent doubling of the shear stress: another diameter over the same specimen.
+  io::Config wider = small_config();
+  wider.set("specimen.diameter", "0.042");
+  CHECK_THROWS_WITH(load_under(wider, "refused_diameter"), Contains("specimen.diameter = 0.042 here, 0.03 in the file"));
+  io::Config step = small_config();
+  step.set("engine.time_step", "1e-6");
+  CHECK_THROWS_WITH(load_under(step, "refused_step"), Contains("engine.time_step = 1e-06 here, 0 in the file"));
+}
+
+TEST_CASE("resume: the next stage's keys and the outputs may change, and summary.json lists them", "[resume][simple-shear]") {
+  io::Config c = small_config();
+  c.set("shear.mode", "constant-volume");
+  c.set("output.every_strain", "0.0025");
+  const fs::path dir = fresh_dir("allowed");
+  std::ostringstream log;
+  {
+    SimpleShearTest test(simple_shear_config(c), dir, log);
+    test.record_configuration(c);
+    test.load_restart(consolidated_specimen() / "consolidated.restart");
+    test.run();
+    test.write_summary(c.to_json());
+  }
+  const io::Json summary = io::Json::parse(file_text(dir / "summary.json"));
+  const io::Json& changed = summary.at("resume_changed_keys");
+  CHECK(changed.at("shear.mode").at("restart_file").as_string() == "drained");
+  CHECK(changed.at("shear.mode").at("this_run").as_string() == "constant-volume");
+  CHECK(changed.at("output.every_strain").at("this_run").as_string() == "0.0025");
+  CHECK_THAT(log.str(), Contains("applied shear.mode = constant-volume (the restart file had drained)"));
+
+  // Mid-shear the shear mode is part of what is done.
+  REQUIRE(fs::exists(dir / "restart.restart"));
+  io::Config drained = c;
+  drained.set("shear.mode", "drained");
+  SimpleShearTest again(simple_shear_config(drained), fresh_dir("allowed_again"), log);
+  again.record_configuration(drained);
+  CHECK_THROWS_WITH(again.load_restart(dir / "restart.restart"), Contains("shear.mode = drained here, constant-volume in the file"));
+}
+
+TEST_CASE("resume: a reconsolidation may change the contact parameters and the consolidation", "[resume][simple-shear]") {
+  io::Config c = small_config();
+  c.set("ball_ball.effective_modulus", "2.4e7");
+  c.set("consolidation.vertical_stress", "1e5");
+  CHECK_THROWS_WITH(load_under(c, "reconsolidate_refused"), Contains("ball_ball.effective_modulus"));
+  CHECK_NOTHROW(load_under(c, "reconsolidate", ResumeIntent::Reconsolidate));
+}
+
+TEST_CASE("resume: a folder holding another run is refused before anything in it changes", "[resume][simple-shear]") {
+  const fs::path dir = fresh_dir("occupied");
+  fs::create_directories(dir);
+  std::ofstream(dir / "history.csv") << "time\n42\n";
+  std::ostringstream log;
+  SimpleShearTest test(simple_shear_config(small_config()), dir, log);
+  test.record_configuration(small_config());
+  test.load_restart(consolidated_specimen() / "consolidated.restart");
+  CHECK_THROWS_WITH(test.open_outputs(), Contains("holds the results of another run") && Contains("--replace"));
+  CHECK(file_text(dir / "history.csv") == "time\n42\n");
+  CHECK_FALSE(fs::exists(dir / "fabric.csv"));
+
+  SimpleShearTest replacing(simple_shear_config(small_config()), dir, log);
+  replacing.record_configuration(small_config());
+  replacing.load_restart(consolidated_specimen() / "consolidated.restart");
+  replacing.open_outputs({.replace = true});
+  // The specimen's own history (its consolidated row) replaces the old file's.
+  CHECK(file_text(dir / "history.csv") == file_text(consolidated_specimen() / "history.csv"));
+}
