@@ -53,6 +53,34 @@ TEST_CASE("instability: a time step far above the stable one stops the run with 
   }
 }
 
+TEST_CASE("instability: below the stable step, a soft contact type beside stiff balls is named, not the step",
+          "[physics][integration]") {
+  // One ball pressed onto the floor by 1000 g through a ball-facet contact 10^4 times softer than
+  // the ball-ball one: the ball-ball stiffness sets the stable step, the step is a quarter of it,
+  // and the overlap with the floor grows past the limit (m g / k_n is about 6 radii).
+  WorldSettings s = dynamic_settings(1e-6);
+  s.gravity = Vec3(0, 0, -9.81e3);
+  s.max_overlap_ratio = 0.5;  // a facet contact ends when the centre crosses the facet
+  World world(s);
+  world.add_ball(ball_at(Vec3(0, 0, radius)));
+  world.add_wall(floor_wall(0.0, 10 * radius));
+  world.set_contact_model(ContactKind::BallBall,
+                          make_contact_model<LinearLaw>(LinearParams::deformable(modulus_ball, 1, 0.5), "ball-ball"));
+  world.set_contact_model(ContactKind::BallFacet,
+                          make_contact_model<LinearLaw>(LinearParams::deformable(modulus_ball * 1e-4, 1, 0.5), "ball-facet"));
+  REQUIRE(world.critical_time_step() > 3e-6);
+  try {
+    world.step(200000);
+    FAIL("the run should have stopped");
+  } catch (const InstabilityError& e) {
+    const std::string msg = e.what();
+    CHECK_THAT(msg, Contains("overlaps wall 'floor'") && Contains("below the stable estimate") &&
+                        Contains("not the cause") && Contains("set by the stiffest contact type, ball-ball") &&
+                        Contains("ball-facet contacts are too soft"));
+    CHECK_THAT(msg, !Contains("Reduce time_step"));
+  }
+}
+
 TEST_CASE("instability: the overlap limit is a setting that a loaded world can raise", "[physics][integration]") {
   // Two balls at rest, overlapping by 0.4 of their radius, with the contact law switched off
   // (zero stiffness is not allowed, so a tiny one): nothing moves, only the limit decides.

@@ -162,24 +162,58 @@ void World::check_stability(const OverlapMonitor& worst, ContactKind kind) {
          << " of the smaller radius";
   }
   what << " (limit " << settings_.max_overlap_ratio << ")";
-  fail(what.str(), ball);
+  fail(what.str(), ball, kind);
 }
 
-void World::fail(const std::string& what, std::size_t i) const {
+void World::fail(const std::string& what, std::size_t i, std::optional<ContactKind> kind) const {
   std::ostringstream msg;
-  msg.precision(6);
+  msg.precision(4);
   const Vec3& x = particles_.x[i];
   msg << "simulation unstable at step " << steps_ << " (t = " << time_ << " s): ball id " << particles_.id[i]
-      << " at (" << x.x() << ", " << x.y() << ", " << x.z() << ") m, radius " << particles_.radius[i] << " m: " << what
-      << ". Likely cause: the time step " << dt_ << " s is too large for the contact stiffness and mass";
+      << " at (" << x.x() << ", " << x.y() << ", " << x.z() << ") m, radius " << particles_.radius[i] << " m: " << what << ". ";
   double critical = std::numeric_limits<double>::quiet_NaN();
   try {
     critical = critical_time_step();
   } catch (const std::exception&) {
   }
-  if (std::isfinite(critical)) msg << " (stable estimate " << critical << " s)";
-  msg << ", or the stiffness is too low for the applied load (overlaps grow without bound). "
-         "Reduce time_step or time_step_safety, or raise the effective modulus.";
+  // The single-contact stiffness of each contact type for this ball: the stiffest sets the stable
+  // step, a soft one beside it is the usual cause when the step is below the estimate.
+  std::optional<ContactKind> stiffest;
+  double stiffest_k = 0.0;
+  std::ostringstream stiffness;
+  stiffness.precision(3);
+  for (ContactKind k : {ContactKind::BallBall, ContactKind::BallFacet, ContactKind::BallPebble}) {
+    const ContactModel* model = contact_model(k);
+    if (model == nullptr) continue;
+    ContactKinematics c{};
+    c.kind = k;
+    c.radius_1 = particles_.radius[i];
+    c.radius_2 = k == ContactKind::BallFacet ? 0.0 : particles_.radius[i];
+    c.effective_radius = k == ContactKind::BallFacet ? c.radius_1 : c.radius_1 / 2;
+    c.normal = Vec3::UnitZ();
+    const double kn = model->stiffness(c).normal;
+    stiffness << (stiffness.tellp() > 0 ? ", " : "") << to_string(k) << " " << kn << " N/m";
+    if (kn > stiffest_k) stiffest_k = kn, stiffest = k;
+  }
+  if (!std::isfinite(critical) || stiffness.tellp() == 0) {
+    msg << "Likely cause: no contact bounds the time step here (no contact law, or none touching), so the "
+           "time step " << dt_ << " s is too large for the speeds given to the balls. Reduce time_step or the speeds.";
+  } else if (dt_ > critical) {
+    msg << "Likely cause: the time step " << dt_ << " s is above the stable estimate " << critical
+        << " s for the contact stiffness and mass (normal stiffness for this ball: " << stiffness.str()
+        << "). Reduce time_step or time_step_safety.";
+  } else {
+    msg << "The time step " << dt_ << " s is below the stable estimate " << critical << " s";
+    if (stiffest) msg << " (set by the stiffest contact type, " << to_string(*stiffest) << ")";
+    msg << ", so the step is not the cause. Normal stiffness for this ball: " << stiffness.str() << ". Likely cause: ";
+    if (kind && stiffest && *kind != *stiffest)
+      msg << "the " << to_string(*kind) << " contacts are too soft for the load on them beside the stiffer "
+          << to_string(*stiffest) << " contacts: raise the " << to_string(*kind)
+          << " effective modulus, or lower the load or the loading speed.";
+    else
+      msg << "the load (a wall's speed or stress, or gravity) is too large for the contact stiffness: overlaps grow "
+             "without bound. Raise the effective modulus, or lower the load or the loading speed.";
+  }
   throw InstabilityError(msg.str());
 }
 

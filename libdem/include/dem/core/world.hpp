@@ -24,6 +24,7 @@
 #include <functional>
 #include <iosfwd>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -156,7 +157,10 @@ class World {
   void check_stability(const OverlapMonitor& pairs_worst, ContactKind pairs_kind);
   bool needs_rebuild() const;
   void refresh_near();
-  [[noreturn]] void fail(const std::string& what, std::size_t particle) const;
+  /// InstabilityError for particle `particle`: what happened, when, and the likely cause (the
+  /// time step when it is above the stable estimate; otherwise the contact type `kind` of an
+  /// overlap when it is softer than the stiffest, or the load).
+  [[noreturn]] void fail(const std::string& what, std::size_t particle, std::optional<ContactKind> kind = std::nullopt) const;
   double resolved_skin() const;
 
   WorldSettings settings_;
