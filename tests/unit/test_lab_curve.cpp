@@ -90,3 +90,20 @@ TEST_CASE("lab curve: NaN, text and empty files are refused by line", "[lab-curv
   CHECK_THROWS_WITH(read_lab_curve(lab_file("missing_dir_check.csv", "x\n").parent_path() / "does_not_exist.csv"),
                     Contains("does_not_exist.csv") && Contains("does not exist"));
 }
+
+TEST_CASE("lab curve: percent read as a fraction and kPa read as Pa are refused with the column name to use", "[lab-curve]") {
+  // The issue's case: strains in percent without the suffix would make the calibration shear to 500 %.
+  const fs::path percent = lab_file("percent.csv", "shear_strain,shear_stress\n0,0\n2,60000\n5,80000\n");
+  CHECK_THROWS_WITH(read_lab_curve(percent), Contains("percent.csv:3") && Contains("above 1 (100 %)") &&
+                                                 Contains("shear_strain_percent") && Contains("--strain-percent"));
+  dem::lab::LabCurveOptions as_percent;
+  as_percent.strain_percent = true;
+  CHECK(read_lab_curve(percent, as_percent).shear_strain.back() == Approx(0.05));
+  const fs::path volumetric = lab_file("volumetric.csv", "shear_strain,shear_stress,volumetric_strain\n0,0,0\n0.02,6e4,-1.5\n");
+  CHECK_THROWS_WITH(read_lab_curve(volumetric), Contains("volumetric_strain") && Contains("beyond 1"));
+  // A simple-shear curve that never reaches 1 kPa is a kPa column without its suffix.
+  const fs::path kilo = lab_file("kilo.csv", "shear_strain,shear_stress\n0,0\n0.02,60\n0.05,80\n");
+  CHECK_THROWS_WITH(read_lab_curve(kilo), Contains("peaks at 80 Pa") && Contains("shear_stress_kPa"));
+  const fs::path named = lab_file("named.csv", "shear_strain,shear_stress_kPa\n0,0\n0.02,60\n0.05,80\n");
+  CHECK(read_lab_curve(named).shear_stress.back() == Approx(8e4));
+}

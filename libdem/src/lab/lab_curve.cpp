@@ -101,6 +101,25 @@ LabCurve read_lab_curve(const std::filesystem::path& file, const LabCurveOptions
     if (volumetric_col) lab.volumetric_strain.push_back(row[*volumetric_col] * volumetric_scale);
     lab.lines.push_back(line_of(r));
   }
+  // Units that do not fit a simple-shear test are a mislabelled column far more often than data:
+  // percent read as a fraction would shear the model to hundreds of percent.
+  for (std::size_t r = 0; r < lab.shear_strain.size(); ++r) {
+    const std::string at = where + ":" + std::to_string(lab.lines[r]) + ": column '";
+    if (lab.shear_strain[r] > 1.0)
+      throw InputError(at + strain_name + "' = " + number(data.rows[r][*strain_col]) + " is a shear strain above 1 (100 %)" +
+                       (strain_scale == 1.0 ? ": if the column is in percent, name it shear_strain_percent or give --strain-percent"
+                                            : ": a simple-shear test does not reach it"));
+    if (volumetric_col && std::abs(lab.volumetric_strain[r]) > 1.0)
+      throw InputError(at + data.columns[*volumetric_col] + "' = " + number(data.rows[r][*volumetric_col]) +
+                       " is a volumetric strain beyond 1 (100 %)" +
+                       (volumetric_scale == 1.0 ? ": if the column is in percent, name it volumetric_strain_percent or give --strain-percent"
+                                                : ""));
+  }
+  double largest_stress = 0.0;
+  for (double tau : lab.shear_stress) largest_stress = std::max(largest_stress, std::abs(tau));
+  if (!stress_suffixed && largest_stress > 0.0 && largest_stress < 1e3)
+    throw InputError(where + ": column 'shear_stress' (Pa) peaks at " + number(largest_stress) +
+                     " Pa, below 1 kPa: if the column is in kPa, name it shear_stress_kPa");
   return lab;
 }
 
