@@ -1,4 +1,4 @@
-# kill_resume: dem-simple-shear killed with SIGKILL mid-shear and resumed with --from equals an
+# kill_resume: dem-simple-shear killed with SIGKILL in each stage and resumed with --from equals an
 # uninterrupted run byte for byte; damaged restart files are refused with exit code 2; history.csv
 # is never torn by a kill (tests/integration/kill_resume.py says what is checked). It needs only
 # the Python standard library. About a minute in Release; the sanitizer stage leaves it out.

@@ -11,7 +11,10 @@ Usage: kill_resume.py DEM_SIMPLE_SHEAR WORK_DIR [SEED]   (tests/ctest/kill_resum
    temporary file planted as a killed writer would leave it is removed by the resumed run.
 2. A truncated and a corrupted (one flipped byte) restart file are refused by --from with exit
    code 2 and a message naming the file and the problem.
-3. Atomic outputs: runs that rewrite history.csv every few steps are killed at random moments;
+3. Output folders: refused runs (wrong stage, another run in --out, --from a folder, another
+   diameter) exit 2 and leave --out as it was; --replace removes the old run as a whole; a second
+   run into a folder in use stops at once while the first finishes.
+4. Atomic outputs: runs that rewrite history.csv every few steps are killed at random moments;
    history.csv must always be a complete table (header, whole rows, final newline). Temporary
    files may be left behind by SIGKILL; they are not checked.
 
@@ -294,6 +297,64 @@ def atomic_history(program, work, a, rng, shear_seconds, kills=8):
               flush=True)
 
 
+def output_folders(program, work, a):
+    """--out is claimed before any work: refusals leave it as it was, --replace removes the old run
+    as a whole, a second run into a busy folder stops at once."""
+    consolidate = os.path.join(os.path.dirname(program), "dem-consolidate")
+    out = os.path.join(work, "folders")
+    other = os.path.join(out, "other")
+    os.makedirs(other)
+    old = {"history.csv": b"time,step\n0,0\n", "consolidated.restart": b"another specimen"}
+    for name, data in old.items():
+        with open(os.path.join(other, name), "wb") as f:
+            f.write(data)
+
+    def unchanged(context):
+        if sorted(os.listdir(other)) != sorted(list(old) + [".lock"]) and sorted(os.listdir(other)) != sorted(old):
+            fail(f"{context}: the refused run changed the files in {other}: {sorted(os.listdir(other))}")
+        for name, data in old.items():
+            if read(os.path.join(other, name)) != data:
+                fail(f"{context}: the refused run changed {name}")
+
+    def refused(args, expect, context, app=program):
+        result = subprocess.run([app] + SPECIMEN + args, capture_output=True, text=True, timeout=RUN_TIMEOUT)
+        if result.returncode != 2 or expect not in result.stderr:
+            fail(f"{context}: expected exit 2 and '{expect}', got exit {result.returncode}: {result.stderr.strip()!r}")
+        print(f"{context}: refused: {result.stderr.strip()}", flush=True)
+
+    refused(["--out", other, "--from", os.path.join(a, "final.restart")], "stage 4",
+            "dem-consolidate --from a sheared restart", app=consolidate)
+    unchanged("wrong stage")
+    refused(["--out", other, "--from", os.path.join(a, "consolidated.restart")], "--replace",
+            "--from another folder into one holding another run")
+    unchanged("occupied folder")
+    refused(["--out", other, "--from", a], "a folder", "--from a folder")
+    unchanged("--from a folder")
+    refused(["--out", other, "--from", os.path.join(a, "consolidated.restart"), "--set", "specimen.diameter=0.042"],
+            "specimen.diameter = 0.042 here, 0.03 in the file", "--from with another diameter")
+    unchanged("another diameter")
+    code = run(program, SPECIMEN + ["--out", other, "--from", os.path.join(a, "consolidated.restart"), "--replace"],
+               os.path.join(out, "replace.log"))
+    if code != 0 or os.path.exists(os.path.join(other, "consolidated.restart")):
+        fail(f"--replace: exit {code}; the old run's consolidated.restart must be gone: {sorted(os.listdir(other))}")
+    if read(os.path.join(other, "history.csv")) != read(os.path.join(a, "history.csv")):
+        fail("--replace: the new shear of A's specimen must have A's history")
+    print("--replace: the old run's files were removed and the new run's written", flush=True)
+
+    busy = os.path.join(out, "busy")
+    with open(os.path.join(out, "busy.log"), "w") as log:
+        first = subprocess.Popen([program] + SPECIMEN + ["--out", busy], stdout=log, stderr=subprocess.STDOUT)
+        start = time.monotonic()
+        while not os.path.exists(os.path.join(busy, "restart.restart")):
+            if first.poll() is not None or time.monotonic() - start > RUN_TIMEOUT:
+                fail(f"the first run into {busy} ended (exit {first.poll()}) before writing a restart file")
+            time.sleep(0.003)
+        refused(["--out", busy], "in use by another run (pid " + str(first.pid), "a second run into a busy folder")
+        if first.wait(timeout=RUN_TIMEOUT) != 0:
+            fail(f"the first run into {busy} failed after the second was refused (exit {first.returncode})")
+    print("a second run into a busy folder stopped at once; the first finished", flush=True)
+
+
 def main():
     if len(sys.argv) not in (3, 4):
         print(__doc__)
@@ -310,6 +371,7 @@ def main():
                     "generated", "consolidated")
     a, shear_seconds = kill_and_resume(program, work, rng, "shearing", SPECIMEN, "consolidated", "final")
     damaged_restart_files(program, work, a)
+    output_folders(program, work, a)
     atomic_history(program, work, a, rng, shear_seconds)
     shutil.rmtree(work)  # kept on failure, for the logs
     print("kill_resume: all checks passed")

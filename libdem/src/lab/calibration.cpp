@@ -225,7 +225,11 @@ Calibration::Calibration(io::Config config, CalibrationSettings settings, LabCur
   // History rows of a trial: at least 50 over the lab's strain range.
   shear.output_every_strain = std::min(shear.output_every_strain, lab_.max_strain() / 50.0);
 
-  fs::create_directories(out_dir_);
+  // Locked against a second calibration into the same folder; its own results are resumed below.
+  io::OutputFolderPolicy policy;
+  policy.continues_own_run = true;
+  policy.program = "dem-calibrate";
+  folder_ = std::make_unique<io::OutputFolder>(out_dir_, policy);
   const std::string setup = setup_text() + "from " + (from.empty() ? std::string("none") : file_hash(from)) + "\n";
   const fs::path setup_file = out_dir_ / "setup.txt";
   std::string old_setup;

@@ -198,6 +198,7 @@ void ShearTrials::consolidate_specimen(double modulus, int threads) {
   const fs::path from = again ? specimen_restart(base_.ball_ball.effective_modulus) : generated_restart_;
   const fs::path dir = specimen_dir(modulus);
   fs::remove_all(dir);
+  fs::create_directories(dir);
   std::ofstream log(dir / "log.txt");
   SimpleShearTest test(config_for({modulus, base_.ball_ball.friction, base_.ball_ball.rolling_friction}, threads), dir, log);
   test.load_restart(from);
@@ -214,6 +215,7 @@ ModelCurve ShearTrials::shear(const ContactFit& fit, double strain, int number, 
   SimpleShearConfig c = config_for(fit, threads);
   c.legs = {{base_.legs.front().direction_deg, strain}};
   {
+    fs::create_directories(dir);
     std::ofstream log(dir / "log.txt");
     SimpleShearTest test(c, dir, log);
     test.load_restart(restart);

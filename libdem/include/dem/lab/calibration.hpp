@@ -40,6 +40,7 @@
 #include <vector>
 
 #include <dem/io/config.hpp>
+#include <dem/io/output_folder.hpp>
 #include <dem/lab/lab_curve.hpp>
 #include <dem/lab/simple_shear_config.hpp>
 
@@ -313,6 +314,7 @@ class Calibration {
   CalibrationSettings settings_;
   LabCurve lab_;
   std::filesystem::path out_dir_;
+  std::unique_ptr<io::OutputFolder> folder_;  // locked for the calibration's lifetime
   std::ostream& log_;
   ContactFit start_;
   double lab_slope_ = 0, lab_peak_ = 0, slope_limit_ = 0, target_strain_ = 0;
