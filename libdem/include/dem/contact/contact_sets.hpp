@@ -23,6 +23,9 @@ struct StateBuffer {
   std::vector<std::byte> bytes;
   std::size_t stride = 0;
   std::size_t count = 0;
+  /// The law type whose States these are (ContactModel::law_tag): history carries over to a new
+  /// model only for the same law type, never for another law whose State merely has this size.
+  const void* law = nullptr;
   std::byte* at(std::size_t k) { return bytes.data() + k * stride; }
   const std::byte* at(std::size_t k) const { return bytes.data() + k * stride; }
 };

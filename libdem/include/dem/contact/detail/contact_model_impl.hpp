@@ -515,6 +515,13 @@ void compute_walls(const typename Law::Params& params, WallContacts& c, const Ke
   }
 }
 
+/// One address per law type: the type tag of its contact history (StateBuffer::law).
+template <ContactLaw Law>
+const void* law_tag() {
+  static const char tag = 0;
+  return &tag;
+}
+
 template <ContactLaw Law>
 class ContactModelFor final : public ContactModel {
  public:
@@ -530,6 +537,7 @@ class ContactModelFor final : public ContactModel {
 
   void reset_states(StateBuffer& buffer, std::size_t count) const override {
     using State = typename Law::State;
+    buffer.law = law_tag<Law>();
     buffer.stride = sizeof(State);
     buffer.count = count;
     buffer.bytes.assign(count * sizeof(State), std::byte{0});
@@ -539,7 +547,7 @@ class ContactModelFor final : public ContactModel {
                     StateBuffer& target) const override {
     using State = typename Law::State;
     reset_states(target, source_of.size());
-    if (source.stride != sizeof(State)) return;  // history of another law: start fresh
+    if (source.law != law_tag<Law>() || source.stride != sizeof(State)) return;  // another law's: start fresh
     for (std::size_t k = 0; k < source_of.size(); ++k) {
       if (source_of[k] < 0) continue;
       state_at<State>(target, k) =
