@@ -9,6 +9,7 @@
 
 #include "dem/core/errors.hpp"
 #include "dem/io/config.hpp"
+#include "dem/io/json.hpp"
 
 #include "support/temp_dir.hpp"
 
@@ -197,4 +198,46 @@ TEST_CASE("to_ini and to_json read back to identical values", "[io][config]") {
   CHECK_THAT(original.to_json(), Contains(R"("steps": 123456789)") &&
                                      Contains(R"("verbose": true)") &&
                                      Contains(R"("stress_path": [1e-300, 5e-324, 123456.789])"));
+}
+
+TEST_CASE("config: deep, large and repeated-key files are refused with a message", "[io][config]") {
+  const TempDir dir("limits");
+  Config config(test_schema());
+  config.set("run.steps=42");
+  const auto load = [&](const fs::path& file) { return error_of([&] { config.load_file(file); }); };
+
+  // Boost's JSON reader recurses per level: 50,000 levels overflowed the stack (exit 139).
+  const std::string deep = R"({"run": {"steps": )" + std::string(50000, '[') + std::string(50000, ']') + "}}";
+  const fs::path deep_file = dir.write("deep.json", deep);
+  CHECK_THAT(load(deep_file), Contains(deep_file.string()) && Contains("nesting depth 50002") &&
+                                  Contains("at most 64"));
+  const std::string limit = std::string(dem::io::max_config_depth, '[') +
+                            std::string(dem::io::max_config_depth, ']');
+  CHECK_THAT(load(dir.write("limit.json", limit)), !Contains("nesting"));  // refused as a list only
+  CHECK_THAT(error_of([&] { (void)dem::io::Json::parse(std::string(50000, '[')); }),
+             Contains("nesting deeper than 512"));
+
+  const fs::path twice = dir.write("twice.json", "{\"run\": {\"steps\": 1,\n \"steps\": 2}}");
+  CHECK_THAT(load(twice), Contains(twice.string()) && Contains("line 2: duplicate key name 'run.steps'"));
+  CHECK_THAT(load(dir.write("sections.json", R"({"run": {"steps": 1}, "run": {"verbose": true}})")),
+             Contains("line 1: duplicate section name 'run'"));
+  // The same key in two forms (or with an escaped letter) is found in the parsed tree.
+  CHECK_THAT(load(dir.write("forms.json", R"({"run.steps": 1, "run": {"st\u0065ps": 2}})")),
+             Contains("duplicate key name 'run.steps'"));
+  CHECK_THAT(load(dir.write("twice.ini", "[run]\nsteps = 1\nsteps = 2\n")),
+             Contains("line 3: duplicate key name 'run.steps'"));
+  CHECK_THAT(load(dir.write("sections.ini", "[run]\nsteps = 1\n[contact]\nfriction = 1\n[run]\nverbose = 1\n")),
+             Contains("line 5: duplicate section name 'run'"));
+
+  const std::size_t most = dem::io::max_config_file_bytes;
+  const std::string comment = "# " + std::string(61, '-') + "\n";  // 64 bytes
+  std::string big;
+  while (big.size() < most) big += comment;
+  big.resize(most);
+  big.back() = '\n';
+  CHECK(load(dir.write("most.ini", big)) == "no error");
+  const fs::path large = dir.write("large.ini", big + "\n");
+  CHECK_THAT(load(large), Contains(large.string()) && Contains("size 1048577 bytes") &&
+                              Contains("at most 1048576 bytes"));
+  CHECK(config.integer("run.steps") == 42);  // no refused file changed anything
 }

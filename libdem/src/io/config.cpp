@@ -16,7 +16,10 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <fstream>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 #include <string_view>
@@ -214,14 +217,19 @@ bool valid_key(const std::string& key) {
 }
 
 // Sets every leaf of a property tree; nested objects join their names with '.', and a node
-// whose children have empty names is a JSON array (a real list).
+// whose children have empty names is a JSON array (a real list). `seen` holds the keys set so
+// far: a key given twice (as "run.steps" and as {"run": {"steps"}}, or with an escaped letter)
+// is refused, as read_ini refuses a repeated INI key, rather than the last one silently winning.
 void load_tree(Config& config, const boost::property_tree::ptree& node,
-               const std::string& prefix) {
+               const std::string& prefix, std::set<std::string>& seen) {
   for (const auto& [name, child] : node) {
     if (name.empty())
       throw InputError("a list found where named keys were expected, at '" +
                        (prefix.empty() ? std::string("top level") : prefix) + "'");
     const std::string key = prefix.empty() ? name : prefix + "." + name;
+    const bool leaf = child.empty() || child.front().first.empty();
+    if (leaf && !seen.insert(key).second)
+      throw InputError("duplicate key name '" + key + "': each key may be set once in a file");
     if (child.empty()) {
       config.set(key, child.data());
     } else if (child.front().first.empty()) {
@@ -233,9 +241,83 @@ void load_tree(Config& config, const boost::property_tree::ptree& node,
       }
       config.set(key, joined);
     } else {
-      load_tree(config, child, key);
+      load_tree(config, child, key, seen);
     }
   }
+}
+
+// Boost's JSON reader recurses once per nesting level (50,000 levels overflow the stack), so
+// the text is scanned first without recursion: nesting depth outside strings, and keys repeated
+// in one object (Boost keeps both; INI refuses them) with their line. Syntax is left to Boost.
+void scan_json(const std::string& text, const std::string& where) {
+  struct Level {
+    bool object;
+    std::string path;  // "section" or "section.key" of this object
+    std::set<std::string> keys;
+  };
+  std::vector<Level> levels;  // only up to max_config_depth; deeper levels are only counted
+  std::size_t depth = 0, deepest = 0, line = 1, deep_line = 0;
+  std::string last_key;  // full name of the last key read: the path of an object that follows
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '\n') {
+      ++line;
+    } else if (c == '"') {
+      const std::size_t start = i + 1, key_line = line;
+      for (++i; i < text.size() && text[i] != '"'; ++i) {
+        if (text[i] == '\\') ++i;  // the escaped character, '"' too
+        else if (text[i] == '\n') ++line;
+      }
+      if (i >= text.size()) break;  // unterminated: Boost reports it
+      const auto next = text.find_first_not_of(" \t\r\n", i + 1);
+      if (next == std::string::npos || text[next] != ':' || depth == 0 || depth > levels.size() ||
+          !levels.back().object)
+        continue;
+      const std::string name = text.substr(start, i - start);
+      Level& level = levels.back();
+      last_key = level.path.empty() ? name : level.path + "." + name;
+      if (!level.keys.insert(name).second) {
+        const auto value = text.find_first_not_of(" \t\r\n", next + 1);
+        const std::string what = value != std::string::npos && text[value] == '{' ? "section" : "key";
+        throw InputError(where + "line " + std::to_string(key_line) + ": duplicate " + what +
+                         " name '" + last_key + "': each " + what + " may appear once");
+      }
+    } else if (c == '{' || c == '[') {
+      ++depth;
+      deepest = std::max(deepest, depth);
+      if (depth <= max_config_depth)
+        levels.push_back({c == '{', depth == 1 ? std::string() : last_key, {}});
+      else if (deep_line == 0)
+        deep_line = line;
+    } else if ((c == '}' || c == ']') && depth > 0) {
+      if (depth <= levels.size()) levels.pop_back();
+      --depth;
+    }
+  }
+  if (deepest > max_config_depth)
+    throw InputError(where + "line " + std::to_string(deep_line) + ": nesting depth " +
+                     std::to_string(deepest) + ": must be at most " +
+                     std::to_string(max_config_depth) +
+                     " levels of objects and arrays (a configuration is section.key)");
+}
+
+// read_ini refuses a repeated key or section by line only; this adds its name.
+std::string ini_duplicate(const std::string& text, std::size_t at_line, const std::string& problem) {
+  std::istringstream lines(text);
+  std::string line, section;
+  for (std::size_t n = 1; std::getline(lines, line) && n <= at_line; ++n) {
+    line = trim(line);
+    if (line.empty() || line[0] != '[') {
+      if (n == at_line) {
+        const std::string name = trim(line.substr(0, line.find('=')));
+        return problem + " '" + (section.empty() ? name : section + "." + name) + "'";
+      }
+      continue;
+    }
+    section = trim(line.substr(1, line.find(']') - 1));
+    if (n == at_line) return problem + " '" + section + "'";
+  }
+  return problem;
 }
 
 std::string json_string(const std::string& text) {
@@ -342,16 +424,41 @@ void Config::load_file(const std::filesystem::path& path) {
                      "' not supported: must be .ini or .json");
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(where + "does not exist");
+  const auto refuse_size = [&](const std::string& size) {
+    throw InputError(where + "size " + size + " bytes: must be at most " +
+                     std::to_string(max_config_file_bytes) + " bytes (a configuration is a few KB)");
+  };
+  const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
+  if (!ec && bytes > max_config_file_bytes) refuse_size(std::to_string(bytes));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(where + "cannot be opened");
+  std::string text;
+  std::array<char, 65536> chunk;
+  while (in.read(chunk.data(), static_cast<std::streamsize>(chunk.size())) || in.gcount() > 0) {
+    text.append(chunk.data(), static_cast<std::size_t>(in.gcount()));
+    if (text.size() > max_config_file_bytes) refuse_size("> " + std::to_string(max_config_file_bytes));  // it grew
+  }
+  if (in.bad()) throw InputError(where + "cannot be read");
+
   boost::property_tree::ptree tree;
   try {
-    if (extension == ".ini") boost::property_tree::read_ini(path.string(), tree);
-    else boost::property_tree::read_json(path.string(), tree);
+    std::istringstream stream(text);
+    if (extension == ".ini") {
+      boost::property_tree::read_ini(stream, tree);
+    } else {
+      scan_json(text, where);
+      boost::property_tree::read_json(stream, tree);
+    }
   } catch (const boost::property_tree::file_parser_error& e) {
-    throw InputError(where + "line " + std::to_string(e.line()) + ": " + e.message());
+    const std::string problem = extension == ".ini" && e.message().rfind("duplicate", 0) == 0
+                                    ? ini_duplicate(text, e.line(), e.message())
+                                    : e.message();
+    throw InputError(where + "line " + std::to_string(e.line()) + ": " + problem);
   }
   const auto before = values_;  // all or nothing: a bad file changes no value
   try {
-    load_tree(*this, tree, "");
+    std::set<std::string> seen;
+    load_tree(*this, tree, "", seen);
   } catch (const InputError& e) {
     values_ = before;
     throw InputError(where + e.what());

@@ -23,6 +23,12 @@
 
 namespace dem::io {
 
+/// Limits of a configuration file that Config::load_file reads: larger or more deeply nested
+/// files are refused before parsing (a configuration is a few KB of section.key entries; the
+/// JSON reader recurses once per level).
+inline constexpr std::size_t max_config_file_bytes = std::size_t{1} << 20;  // 1 MiB
+inline constexpr std::size_t max_config_depth = 64;                          // objects and arrays
+
 enum class ValueType { Real, Integer, Boolean, Text, RealList };
 
 /// "real", "integer", "boolean", "text" or "real list".
@@ -72,7 +78,8 @@ class Config {
 
   /// Sets every key found in an .ini or .json file (chosen by extension). On any error the
   /// Config is left as before and dem::InputError names the file and the problem. In JSON a real
-  /// list may be an array of numbers or a comma-separated string.
+  /// list may be an array of numbers or a comma-separated string. A key or section given twice,
+  /// a file over max_config_file_bytes and JSON nested deeper than max_config_depth are refused.
   void load_file(const std::filesystem::path& path);
 
   /// Applies "section.key=value", as given to --set on the command line.
