@@ -391,3 +391,59 @@ TEST_CASE("checkpoint: a refused file leaves the World as it was, and an unstepp
   CHECK_NOTHROW(resumed.step(2));
   fs::remove(file);
 }
+
+TEST_CASE("checkpoint: step and rebuild counters outside [0, 1e15] are refused", "[checkpoint]") {
+  // INT64_MAX rebuilds was accepted and overflowed at the next rebuild (UBSan).
+  const World world = small_scene();
+  const std::string payload = payload_of(world);
+  constexpr std::int64_t huge = std::numeric_limits<std::int64_t>::max();
+  constexpr std::size_t steps_at = state_start + 8;  // after the time
+  // rebuilds is followed by max_travel_sq, max_wall_travel and skin (8 bytes each).
+  const std::size_t rebuilds_at = payload.size() - 32;
+  REQUIRE(read_at<std::int64_t>(payload, steps_at) == world.step_count());
+  REQUIRE(read_at<std::int64_t>(payload, rebuilds_at) == world.rebuild_count());
+  CHECK_THAT(refusal(written_at(payload, rebuilds_at, huge)),
+             Contains("checkpoint: rebuilds = 9223372036854775807") && Contains("in [0, 1000000000000000]"));
+  CHECK_THAT(refusal(written_at(payload, rebuilds_at, std::int64_t{-1})), Contains("checkpoint: rebuilds = -1"));
+  CHECK_THAT(refusal(written_at(payload, steps_at, huge)),
+             Contains("checkpoint: steps = 9223372036854775807") && Contains("in [0, 1000000000000000]"));
+  CHECK_THAT(refusal(written_at(payload, state_start, -1.0)), Contains("checkpoint: time = -1") && Contains(">= 0 s"));
+  CHECK(refusal(written_at(payload, rebuilds_at, std::int64_t{1'000'000'000'000'000})) == "accepted");
+}
+
+TEST_CASE("checkpoint: bytes after the end are too long and a short file is truncated", "[checkpoint]") {
+  const World world = small_scene();
+  const fs::path file = temp_file("length.ckpt");
+  World target{WorldSettings{}};
+  set_all_models(target);
+  io::save_checkpoint(file, world, "");
+  const auto size = fs::file_size(file);
+  std::ofstream(file, std::ios::binary | std::ios::app) << "abc";
+  const std::string appended = [&] {
+    try {
+      io::load_checkpoint(file, target);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  }();
+  CHECK_THAT(appended, Contains(file.string()) && Contains("too long") && Contains("3 bytes past the end") &&
+                           !Contains("truncated"));
+
+  for (const std::uintmax_t keep : {std::uintmax_t{12}, size - 1}) {
+    io::save_checkpoint(file, world, "");
+    fs::resize_file(file, keep);
+    CHECK_THROWS_WITH(io::load_checkpoint(file, target), Contains("truncated") && !Contains("too long"));
+  }
+  // A payload size near 2^64 in the header.
+  io::save_checkpoint(file, world, "");
+  {
+    std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(12);  // after the magic and the format version
+    const std::uint64_t huge = std::numeric_limits<std::uint64_t>::max() - 7;
+    f.write(reinterpret_cast<const char*>(&huge), sizeof huge);
+  }
+  CHECK_THROWS_WITH(io::load_checkpoint(file, target),
+                    Contains("truncated") && Contains("payload of 18446744073709551608 bytes"));
+  fs::remove(file);
+}

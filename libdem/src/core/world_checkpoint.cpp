@@ -58,6 +58,10 @@ template <class T>
   throw InputError(msg.str());
 }
 
+// Step and rebuild counters: beyond any run (1e15 steps take 30 years at 1 us a step) and far
+// enough below INT64_MAX that counting on from them cannot overflow.
+constexpr std::int64_t max_counter = 1'000'000'000'000'000;
+
 std::string at(const std::string& field, std::size_t k) { return field + "[" + std::to_string(k) + "]"; }
 
 struct Reader {
@@ -124,6 +128,11 @@ struct Reader {
     const Vec3 x = vec3(field);
     if (!x.allFinite()) refuse(field, show(x), "finite");
     return x;
+  }
+  std::int64_t counter(const std::string& field) {
+    const auto n = pod<std::int64_t>(field);
+    if (n < 0 || n > max_counter) refuse(field, n, "in [0, " + std::to_string(max_counter) + "]");
+    return n;
   }
   std::string text(const std::string& field) {
     std::string s(count(field, 1), '\0');
@@ -606,8 +615,8 @@ void World::load_state(std::istream& in) {
   }
   // Everything is read into locals and checked; the World changes only once all of it is valid.
   const double time = r.number("time");
-  const auto steps = r.pod<std::int64_t>("steps");
-  if (steps < 0) refuse("steps", steps, ">= 0");
+  if (time < 0.0) refuse("time", time, ">= 0 s");
+  const std::int64_t steps = r.counter("steps");
   const double dt = r.number("dt");
   if (dt < 0.0) refuse("dt", dt, ">= 0 s (0: not yet estimated)");
   const WorldSettings settings = read_settings(r, settings_);
@@ -625,8 +634,7 @@ void World::load_state(std::istream& in) {
   auto x_at_rebuild = r.vec<Vec3>("x_at_rebuild");
   auto wall_disp_at_rebuild = r.vec<Vec3>("wall_disp_at_rebuild");
   const bool need_rebuild = r.flag("need_rebuild");
-  const auto rebuilds = r.pod<std::int64_t>("rebuilds");
-  if (rebuilds < 0) refuse("rebuilds", rebuilds, ">= 0");
+  const std::int64_t rebuilds = r.counter("rebuilds");
   const double max_travel_sq = r.number("max_travel_sq");
   if (max_travel_sq < 0.0) refuse("max_travel_sq", max_travel_sq, ">= 0 m^2");
   const double max_wall_travel = r.number("max_wall_travel");

@@ -53,8 +53,11 @@ std::string load_checkpoint(const std::filesystem::path& path, World& world) {
   if (!in) throw InputError("restart file " + path.string() + ": cannot be opened");
   const std::string file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const std::size_t header = sizeof magic + sizeof(std::uint32_t) + sizeof(std::uint64_t);
-  if (file.size() < header + sizeof(std::uint64_t) || file.compare(0, sizeof magic, magic, sizeof magic) != 0)
+  if (file.size() < sizeof magic || file.compare(0, sizeof magic, magic, sizeof magic) != 0)
     throw InputError("restart file " + path.string() + ": not a libdem restart file");
+  if (file.size() < header + sizeof(std::uint64_t))
+    throw InputError("restart file " + path.string() + ": truncated (" + std::to_string(file.size()) +
+                     " bytes, a restart file has at least " + std::to_string(header + sizeof(std::uint64_t)) + ")");
   std::uint32_t version = 0;
   std::uint64_t size = 0, stored = 0;
   std::memcpy(&version, file.data() + sizeof magic, sizeof version);
@@ -62,9 +65,17 @@ std::string load_checkpoint(const std::filesystem::path& path, World& world) {
   if (version != checkpoint_format_version)
     throw InputError("restart file " + path.string() + ": format version " + std::to_string(version) +
                      ", this libdem reads version " + std::to_string(checkpoint_format_version));
-  if (file.size() != header + size + sizeof stored)
-    throw InputError("restart file " + path.string() + ": truncated (" + std::to_string(file.size()) + " bytes, expected " +
-                     std::to_string(header + size + sizeof stored) + ")");
+  // Shorter and longer than the header says are told apart: bytes appended after a complete
+  // file (a copy that went wrong) are not a truncation.
+  const std::uint64_t present = file.size() - header - sizeof stored;
+  if (size > present)
+    throw InputError("restart file " + path.string() + ": truncated (" + std::to_string(file.size()) +
+                     " bytes, the header promises a payload of " + std::to_string(size) + " bytes, " +
+                     std::to_string(present) + " are there)");
+  if (size < present)
+    throw InputError("restart file " + path.string() + ": too long (" + std::to_string(file.size()) + " bytes, " +
+                     std::to_string(present - size) + " bytes past the end of the " +
+                     std::to_string(header + size + sizeof stored) + "-byte restart file): must end at its checksum");
   const std::string data = file.substr(header, size);
   std::memcpy(&stored, file.data() + header + size, sizeof stored);
   if (checksum(data) != stored) throw InputError("restart file " + path.string() + ": checksum mismatch (corrupted)");

@@ -16,8 +16,9 @@ inline constexpr std::uint32_t checkpoint_format_version = 1;
 void save_checkpoint(const std::filesystem::path& path, const World& world, const std::string& protocol_state);
 
 /// Restores `world` (its contact models must already be set, with the same laws) and returns
-/// the protocol text. Throws InputError naming the file for a missing, truncated or corrupted
-/// file, another format version, or mismatched laws.
+/// the protocol text. Throws InputError naming the file for a missing, truncated (shorter than
+/// its header says), too long (bytes past its end) or corrupted file, another format version,
+/// mismatched laws, or a field of the world state outside its allowed range.
 std::string load_checkpoint(const std::filesystem::path& path, World& world);
 
 }  // namespace dem::io
