@@ -137,6 +137,10 @@ void config_seeds() {
   seed("config", "bad-ini-duplicate", 0, "[shear]\ntarget_strain=0.1\n[shear]\ntarget_strain=0.2\n");
   seed("config", "bad-json-nested", 1, "{\"shear\": {\"target\": {\"strain\": 0.1}}}");
   seed("config", "bad-json-array", 1, "[1, 2, 3]");
+  seed("config", "bad-json-duplicate", 1, "{\"shear\": {\"target_strain\": 0.1, \"target_strain\": 0.2}}");
+  // Deeper than max_config_depth within 4 KB (the unit test has 50,000 levels).
+  seed("config", "bad-json-deep", 1,
+       "{\"shear\": {\"target_strain\": " + std::string(1900, '[') + std::string(1900, ']') + "}}");
   seed("config", "bad-json-list", 1, "{\"output\": {\"fabric_strains\": [0, [0.1], \"x\"]}}");
   seed("config", "bad-set-form", 2, "shear.target_strain\n=0.1\nshear.target_strain=1e999\n");
   seed("config", "bad-set-list", 2, "output.snapshot_strains=0,0.1,\noutput.snapshot_strains=,\n");
