@@ -137,9 +137,11 @@ TEST_CASE("calibration: strain units are explicit: fraction, _percent suffix or 
   const TempDir temp("units");
   const fs::path& dir = temp.path;
   const std::string text = "shear_strain,shear_stress,volumetric_strain\n0,0,0\n2,1000,0.5\n";
-  const LabCurve fraction = lab_from(dir, text);
-  CHECK(fraction.shear_strain[1] == 2.0);  // as written: never guessed to be percent
-  CHECK(fraction.volumetric_strain[1] == 0.5);
+  // Never guessed to be percent: a strain above 1 without the suffix or the flag is refused.
+  CHECK_THROWS_WITH(lab_from(dir, text), Contains("above 1 (100 %)") && Contains("--strain-percent"));
+  const LabCurve fraction = lab_from(dir, "shear_strain,shear_stress,volumetric_strain\n0,0,0\n0.02,1000,0.005\n");
+  CHECK(fraction.shear_strain[1] == 0.02);
+  CHECK(fraction.volumetric_strain[1] == 0.005);
   const LabCurve percent = lab_from(dir, text, {.strain_percent = true});
   CHECK(percent.shear_strain[1] == Approx(0.02).margin(1e-15));
   CHECK(percent.volumetric_strain[1] == Approx(0.005).margin(1e-15));
@@ -266,15 +268,17 @@ TEST_CASE("calibration: E* and mu are recovered from a curve made with known val
   }
   // Complete: nothing new at all.
   std::ostringstream log3;
-  Calibration again(start, settings, read_lab_curve(lab_file), out, {}, log3);
-  const CalibrationResult third = again.run();
-  CHECK(third.new_trials == 0);
-  CHECK(third.trials == first.trials);
-  CHECK(third.best == first.best);
-  const io::CsvData final_trials = io::read_csv(out / "trials.csv");
-  REQUIRE(final_trials.rows.size() == trials.rows.size());
-  for (std::size_t r = 0; r < trials.rows.size(); ++r)  // all but the seconds of the re-run trials
-    for (std::size_t c = 0; c + 1 < trials.columns.size(); ++c) CHECK(final_trials.rows[r][c] == trials.rows[r][c]);
+  {  // (ended before the next calibration: one at a time holds the folder)
+    Calibration again(start, settings, read_lab_curve(lab_file), out, {}, log3);
+    const CalibrationResult third = again.run();
+    CHECK(third.new_trials == 0);
+    CHECK(third.trials == first.trials);
+    CHECK(third.best == first.best);
+    const io::CsvData final_trials = io::read_csv(out / "trials.csv");
+    REQUIRE(final_trials.rows.size() == trials.rows.size());
+    for (std::size_t r = 0; r < trials.rows.size(); ++r)  // all but the seconds of the re-run trials
+      for (std::size_t c = 0; c + 1 < trials.columns.size(); ++c) CHECK(final_trials.rows[r][c] == trials.rows[r][c]);
+  }
 
   // Another lab curve in the same folder is refused rather than mixed with these trials.
   const fs::path other = dir / "other.csv";
