@@ -1,12 +1,16 @@
-// dem-bench: the peers' benchmark system (shared bench inputs for LAMMPS and LIGGGHTS), run by
-// libdem: a dense packing in a 70 mm cylinder (side wall, bottom plane, top plane moving down at
-// 5 mm/s), constant kn = kt = 7e4 N/m, mu 0.5, rolling resistance kr = kt Rbar^2 with mu_r 0.17,
-// mass-proportional dashpots gamma m_eff (LAMMPS `damping mass_velocity`), gravity, no local
-// damping. Time step, dashpot rate and skin follow the peers' params.py from the packing's radii.
+// dem-bench: the peers' benchmark system (LAMMPS and LIGGGHTS run it from the inputs that
+// benchmarks/compare-peers writes), run by libdem: a dense packing in a 70 mm cylinder (side wall,
+// bottom plane, top plane moving down at 5 mm/s), constant kn = kt = 7e4 N/m, mu 0.5, rolling
+// resistance kr = kt Rbar^2 with mu_r 0.17, mass-proportional dashpots gamma m_eff (LAMMPS
+// `damping mass_velocity`), gravity, no local damping. Time step, dashpot rate and skin follow
+// from the packing's radii (bench_system.hpp); --describe prints them for the peers' inputs.
 //
 // Prints particle-steps per second of the timed loop, mean ball-ball contacts per ball and the
 // vertical stress from the ball-ball contact virial over the current cylinder volume, the
 // quantities the peers report, so that speed is compared on the same physics.
+//
+// `dem-bench --generate 1750|14k|112k --out FILE` makes the benchmark packing itself
+// (packing_generator.cpp), so that nothing outside the repository is needed.
 #include <sys/resource.h>
 
 #include <boost/program_options.hpp>
@@ -21,60 +25,12 @@
 
 #include <dem/dem.hpp>
 
+#include "bench_system.hpp"
 #include "cpu_steal.hpp"
 
 namespace po = boost::program_options;
 using namespace dem;
-
-namespace {
-
-std::vector<BallSpec> read_packing(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError("--packing = " + path + ": cannot open the file");
-  std::vector<BallSpec> balls;
-  std::string line;
-  int number = 0;
-  while (std::getline(in, line)) {
-    ++number;
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream fields(line);
-    BallSpec b;
-    if (!(fields >> b.position.x() >> b.position.y() >> b.position.z() >> b.radius))
-      throw InputError(path + ":" + std::to_string(number) + ": expected 'x y z radius' (m), got '" + line + "'");
-    b.density = 2650.0;
-    balls.push_back(b);
-  }
-  if (balls.empty()) throw InputError("--packing = " + path + ": no balls in the file");
-  return balls;
-}
-
-double info_value(const std::string& packing, const std::string& key) {
-  const auto dot = packing.rfind(".txt");
-  std::ifstream in(packing.substr(0, dot) + "_info.txt");
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream fields(line);
-    std::string k;
-    double v;
-    if (fields >> k >> v && k == key) return v;
-  }
-  return std::nan("");
-}
-
-/// Ball-ball contact virial sum_c d_z F_z over the cylinder volume below the top plate, Pa.
-double vertical_stress(const World& world, double top_z) {
-  const auto& c = world.pair_contacts(ContactKind::BallBall);
-  const auto& p = world.particles();
-  double virial = 0.0;
-  for (std::size_t k = 0; k < c.size(); ++k) {
-    if (c.normal_force[k] <= 0.0) continue;
-    const Vec3 d = p.x[static_cast<std::size_t>(c.second[k])] - p.x[static_cast<std::size_t>(c.first[k])];
-    virial += d.z() * c.force[k].z();
-  }
-  return virial / (pi * 0.035 * 0.035 * top_z);
-}
-
-}  // namespace
+using namespace dem::bench;
 
 int main(int argc, char** argv) {
   po::options_description opts("dem-bench options");
@@ -82,8 +38,8 @@ int main(int argc, char** argv) {
   long steps = 0;
   long rebuilds = 0;
   int threads = 1;
-  double wall_speed = 0.005;
-  opts.add_options()("help", "this help")("packing", po::value(&packing)->required(), "packing file: x y z radius (m) per line")(
+  GenerateOptions generate;
+  opts.add_options()("help", "this help")("packing", po::value(&packing), "packing file: x y z radius (m) per line")(
       "steps", po::value(&steps)->default_value(0), "timed steps (0: the peers' count for this size)")(
       "threads", po::value(&threads)->default_value(1), "OpenMP threads")(
       "segments", po::value<int>()->default_value(360), "facets around the cylinder side wall")(
@@ -92,7 +48,14 @@ int main(int argc, char** argv) {
       "after the run, time this many forced neighbour-list rebuilds (re-sort, pair search, history carried over)")(
       "boundary", po::value<std::string>()->default_value("cylinder"),
       "cylinder: the peers' walls; rings: the simple-shear boundary (clump ring stack and facet discs); "
-      "none: no walls (to measure what the boundaries cost)");
+      "none: no walls (to measure what the boundaries cost)")(
+      "describe", "print the run's parameters (time step, dashpot rate, skin, top plane, steps) for --packing and exit "
+      "(what compare-peers gives LAMMPS and LIGGGHTS)")(
+      "generate", po::value(&generate.size),
+      "make the benchmark packing 1750, 14k or 112k with libdem (seeded, the same every time; see packing_generator.cpp) "
+      "and write it to --out")(
+      "out", po::value(&generate.out), "packing file written by --generate")(
+      "seed", po::value(&generate.seed)->default_value(1), "random seed of --generate");
   try {
     po::variables_map vm;
     po::store(po::parse_command_line(argc, argv, opts), vm);
@@ -101,26 +64,37 @@ int main(int argc, char** argv) {
       return 0;
     }
     po::notify(vm);
+    if (threads < 1) throw InputError("--threads = " + std::to_string(threads) + ": must be >= 1");
+    if (vm.count("generate")) {
+      if (vm.count("packing")) throw InputError("--generate and --packing: give one of them");
+      generate.threads = threads;
+      generate_packing(generate);
+      return 0;
+    }
+    if (packing.empty()) throw InputError("--packing FILE (or --generate SIZE --out FILE) is required");
     if (steps < 0) throw InputError("--steps = " + std::to_string(steps) + ": must be >= 0");
     if (rebuilds < 0) throw InputError("--rebuilds = " + std::to_string(rebuilds) + ": must be >= 0");
-    auto balls = read_packing(packing);
+    Packing input = read_packing(packing);
+    auto& balls = input.balls;
     double r_min = 1e9, r_max = 0;
     for (const auto& b : balls) r_min = std::min(r_min, b.radius), r_max = std::max(r_max, b.radius);
-    // params.py: dt = 0.2 sqrt(m_min/kn) rounded down to 2 digits; gamma_n for damping ratio 0.2
-    // between two mean-size balls; skin a quarter of d_min.
-    const double kn = 7e4, rho = 2650.0, d_min = 2 * r_min, d_max = 2 * r_max;
-    const double m_min = rho * pi / 6 * d_min * d_min * d_min;
-    const double d3_mean = (std::pow(d_max, 4) - std::pow(d_min, 4)) / (4 * (d_max - d_min));
-    const double m_mean = rho * pi / 6 * d3_mean;
-    const double tc = std::sqrt(m_min / kn);
-    const double scale = std::pow(10.0, std::floor(std::log10(0.2 * tc)) - 1);
-    const double dt = std::stod((std::ostringstream() << std::setprecision(2) << std::floor(0.2 * tc / scale) * scale).str());
-    const double gamma_n = std::stod((std::ostringstream() << std::setprecision(3) << 2 * 0.2 * std::sqrt(kn / (m_mean / 2))).str());
+    // The peers' parameter rules (bench_system.hpp) from the packing's smallest and largest balls.
+    const SystemParams sys = system_params(2 * r_min, 2 * r_max);
+    const double dt = sys.time_step, gamma_n = sys.gamma_n, d_min = sys.d_min, wall_speed = bench::wall_speed;
     if (steps == 0) steps = balls.size() < 5000 ? 10000 : balls.size() < 50000 ? 5000 : 1000;
-    double top_z = info_value(packing, "top_wall_z");
+    double top_z = input.header_value("top_wall_z");
     if (!std::isfinite(top_z)) {
       top_z = 0;
       for (const auto& b : balls) top_z = std::max(top_z, b.position.z() + b.radius);
+    }
+    if (vm.count("describe")) {
+      std::printf("balls: %zu\nsteps: %ld\ntime_step_s: %.17g\ngamma_n_per_s: %.17g\nskin_m: %.17g\ntop_wall_z_m: %.17g\n"
+                  "cylinder_radius_m: %.17g\nwall_speed_m_per_s: %.17g\nnormal_stiffness_N_per_m: %.17g\nshear_stiffness_N_per_m: %.17g\n"
+                  "friction: %.17g\nrolling_friction: %.17g\ndensity_kg_per_m3: %.17g\ngravity_m_per_s2: 9.81\n"
+                  "packing_recipe: %.0f\ngenerator_recipe: %d\n",
+                  balls.size(), steps, dt, gamma_n, sys.skin, top_z, cylinder_radius, wall_speed, normal_stiffness, normal_stiffness,
+                  friction, rolling_friction, density, input.header_value("recipe"), packing_recipe);
+      return 0;
     }
 
     WorldSettings s;
@@ -139,13 +113,9 @@ int main(int argc, char** argv) {
     if (boundary != "cylinder" && boundary != "rings" && boundary != "none")
       throw InputError("--boundary = " + boundary + ": must be cylinder, rings or none");
     const int segments = vm["segments"].as<int>();
-    // Circumscribed polygon: its flat faces are tangent to the 35 mm circle, as the analytic wall.
-    const double r_poly = 0.035 / std::cos(pi / segments);
     WallId top = -1;
     if (boundary == "cylinder") {
-      world.add_wall(make_facet_wall("side", geometry::make_cylinder_shell(Vec3(0, 0, -0.001), r_poly, top_z + 0.002, segments, true), Vec3::UnitX()));
-      world.add_wall(make_facet_wall("bottom", geometry::make_rectangle(Vec3::Zero(), Vec3(0.0355, 0, 0), Vec3(0, 0.0355, 0)), -Vec3::UnitZ()));
-      top = world.add_wall(make_facet_wall("top", geometry::make_rectangle(Vec3(0, 0, top_z), Vec3(0.0355, 0, 0), Vec3(0, 0.0355, 0)), Vec3::UnitZ()));
+      top = add_cylinder_walls(world, top_z, top_z + 0.001, segments);
     } else if (boundary == "rings") {
       // As the simple-shear app builds it: pebbles of the smallest ball diameter, discs as plates.
       RingStackSpec rings;
@@ -159,10 +129,7 @@ int main(int argc, char** argv) {
       top = world.add_wall(make_facet_wall("top", geometry::make_disc(Vec3(0, 0, top_z), 0.035 + 2 * d_min, Vec3::UnitZ(), 24), Vec3::UnitZ()));
     }
     if (top >= 0) world.wall(top).velocity = Vec3(0, 0, -wall_speed);
-    auto law = RollingLinearLaw::Params::constant(kn, kn, 0.5, 0.17);
-    law.normal_damping_rate = gamma_n;
-    law.shear_damping_rate = gamma_n;
-    const auto model = make_contact_model<RollingLinearLaw>(law, "contact");
+    const auto model = bench_law(gamma_n, friction, rolling_friction);
     for (ContactKind k : {ContactKind::BallBall, ContactKind::BallFacet, ContactKind::BallPebble}) world.set_contact_model(k, model);
 
     world.step(1);  // neighbour lists and contacts, as the peers' setup before the timed run
