@@ -485,6 +485,28 @@ std::vector<double> Config::real_list(const std::string& key) const {
   return get<std::vector<double>>(key, ValueType::RealList);
 }
 
+std::string Config::exact_text(const std::string& key) const {
+  const KeySpec* spec = schema_.find(key);
+  if (spec == nullptr) throw std::logic_error("Config::exact_text: no key '" + key + "' in the schema");
+  auto shortest = [](double v) {
+    char buffer[32];
+    const auto result = std::to_chars(buffer, buffer + sizeof buffer, v);
+    return std::string(buffer, result.ptr);
+  };
+  switch (spec->type) {
+    case ValueType::Real: return shortest(real(key));
+    case ValueType::Integer: return std::to_string(integer(key));
+    case ValueType::Boolean: return boolean(key) ? "true" : "false";
+    case ValueType::Text: return text(key);
+    case ValueType::RealList: {
+      std::string out;
+      for (double v : real_list(key)) out += (out.empty() ? "" : ",") + shortest(v);
+      return out;
+    }
+  }
+  return {};
+}
+
 std::string Config::to_ini() const {
   const auto& keys = schema_.keys();
   std::string out = "# Resolved configuration: every key, SI units.\n";

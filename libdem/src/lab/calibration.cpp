@@ -56,21 +56,6 @@ std::string file_hash(const fs::path& file) {
   return out.str();
 }
 
-std::string text_of(const io::Config& c, const io::KeySpec& spec) {
-  switch (spec.type) {
-    case io::ValueType::Real: return detail::exact_text(c.real(spec.key));
-    case io::ValueType::Integer: return std::to_string(c.integer(spec.key));
-    case io::ValueType::Boolean: return c.boolean(spec.key) ? "true" : "false";
-    case io::ValueType::Text: return c.text(spec.key);
-    case io::ValueType::RealList: {
-      std::string out;
-      for (double v : c.real_list(spec.key)) out += (out.empty() ? "" : ",") + detail::exact_text(v);
-      return out;
-    }
-  }
-  return {};
-}
-
 const std::vector<std::string> trial_columns = {
     "trial", "stage", "effective_modulus", "friction", "rolling_friction", "shear_stress_rd_max_percent",
     "shear_stress_rd_mean_percent", "volumetric_strain_rd_max_percent", "volumetric_strain_rd_mean_percent",
@@ -166,7 +151,7 @@ void parse_fit_list(const std::string& list, CalibrationSettings& s) {
 io::Config shear_config_with(const io::Config& config, const ContactFit& fit) {
   const io::Schema shear = simple_shear_schema();
   io::Config out(shear);
-  for (const io::KeySpec& spec : shear.keys()) out.set(spec.key, text_of(config, spec));
+  for (const io::KeySpec& spec : shear.keys()) out.set(spec.key, config.exact_text(spec.key));
   out.set("ball_ball.effective_modulus", detail::exact_text(fit.effective_modulus));
   out.set("ball_ball.friction", detail::exact_text(fit.friction));
   out.set("ball_ball.rolling_friction", detail::exact_text(fit.rolling_friction));

@@ -1,6 +1,5 @@
 #include <dem/lab/resume_rules.hpp>
 
-#include <cstdlib>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -53,19 +52,6 @@ const std::map<std::string, ResumeRule>& rules() {
   return table;
 }
 
-// The shortest text that reads back to the same double (0.3, not 0.29999999999999999).
-std::string real_text(double value) {
-  std::string text;
-  for (int digits = 15; digits <= 17; ++digits) {
-    std::ostringstream out;
-    out.precision(digits);
-    out << value;
-    text = out.str();
-    if (std::strtod(text.c_str(), nullptr) == value) break;
-  }
-  return text;
-}
-
 }  // namespace
 
 std::string to_string(RunProgress progress) {
@@ -90,19 +76,7 @@ ResumeRule resume_rule(const std::string& key) {
 
 std::vector<std::pair<std::string, std::string>> configuration_record(const io::Config& config) {
   std::vector<std::pair<std::string, std::string>> record;
-  for (const io::KeySpec& spec : config.schema().keys()) {
-    std::string value;
-    switch (spec.type) {
-      case io::ValueType::Real: value = real_text(config.real(spec.key)); break;
-      case io::ValueType::Integer: value = std::to_string(config.integer(spec.key)); break;
-      case io::ValueType::Boolean: value = config.boolean(spec.key) ? "true" : "false"; break;
-      case io::ValueType::Text: value = config.text(spec.key); break;
-      case io::ValueType::RealList:
-        for (double x : config.real_list(spec.key)) value += (value.empty() ? "" : ",") + real_text(x);
-        break;
-    }
-    record.emplace_back(spec.key, value);
-  }
+  for (const io::KeySpec& spec : config.schema().keys()) record.emplace_back(spec.key, config.exact_text(spec.key));
   return record;
 }
 

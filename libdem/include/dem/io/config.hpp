@@ -94,6 +94,9 @@ class Config {
   long integer(const std::string& key) const;
   bool boolean(const std::string& key) const;
   std::string text(const std::string& key) const;
+  /// The value of any key as text that set() reads back to the same value (reals in the
+  /// shortest form that round-trips, lists comma separated).
+  std::string exact_text(const std::string& key) const;
   std::vector<double> real_list(const std::string& key) const;
 
   /// The resolved configuration as INI, every key, with help and unit as comments.
