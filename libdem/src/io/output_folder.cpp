@@ -136,7 +136,7 @@ OutputFolder::OutputFolder(fs::path folder, const OutputFolderPolicy& policy) : 
 }
 
 OutputFolder::~OutputFolder() {
-  if (lock_fd_ >= 0) ::close(lock_fd_);  // releases the lock; the file stays, naming no one
+  if (lock_fd_ >= 0) ::close(lock_fd_);  // releases the lock; the file stays, read only while locked
 }
 
 }  // namespace dem::io

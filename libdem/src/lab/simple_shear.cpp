@@ -50,15 +50,13 @@ std::vector<std::string> history_columns(std::size_t rings, int bins) {
   return c;
 }
 
-// Store indices of the balls (not pebbles), by ascending id: the order they were added in.
-std::vector<std::size_t> balls_by_id(const ParticleStore& p) {
-  std::vector<std::pair<ParticleId, std::size_t>> by_id;
+// The ids of the balls (not pebbles), ascending: the order they were added in.
+std::vector<ParticleId> ball_ids(const ParticleStore& p) {
+  std::vector<ParticleId> ids;
   for (std::size_t i = 0; i < p.size(); ++i)
-    if (!p.is_pebble(i)) by_id.emplace_back(p.id[i], i);
-  std::sort(by_id.begin(), by_id.end());
-  std::vector<std::size_t> indices;
-  for (const auto& entry : by_id) indices.push_back(entry.second);
-  return indices;
+    if (!p.is_pebble(i)) ids.push_back(p.id[i]);
+  std::sort(ids.begin(), ids.end());
+  return ids;
 }
 
 }  // namespace
@@ -188,9 +186,8 @@ void SimpleShearTest::release_rings() {
   }
 }
 
-std::vector<double> SimpleShearTest::target_diameters() const {
+std::vector<double> SimpleShearTest::target_diameters(std::mt19937_64& rng) const {
   const double radius = config_.diameter / 2;
-  std::mt19937_64 rng(config_.seed);
   return sample_diameters(config_.grading, (1.0 - config_.porosity) * pi * radius * radius * config_.height, rng);
 }
 
@@ -200,7 +197,8 @@ void SimpleShearTest::generate() {
   const auto t0 = std::chrono::steady_clock::now();
   const double radius = config_.diameter / 2, height = config_.height;
   const double cavity = pi * radius * radius * height;
-  const std::vector<double> diameters = target_diameters();
+  std::mt19937_64 rng(config_.seed);  // the diameters, then the positions
+  const std::vector<double> diameters = target_diameters(rng);
   double solid = 0.0;
   for (double d : diameters) solid += pi / 6 * d * d * d;
   if (generating_) {  // resumed from a restart file written during the generation
@@ -212,7 +210,7 @@ void SimpleShearTest::generate() {
     log_ << "generation: " << ball_count_ << " balls, d = " << config_.grading.smallest() * 1e3 << "-"
          << config_.grading.largest() * 1e3 << " mm, porosity " << generated_porosity_ << ", H/d_max = "
          << height / config_.grading.largest() << "\n";
-    place_half_size_balls(diameters);
+    place_half_size_balls(diameters, rng);
     // Expansion to full size in stages, with the generation friction on the ball-ball contacts
     // (plates and rings frictionless), cycling towards equilibrium in between. With the servo
     // plate the specimen grows against a low stress instead of a closed cavity.
@@ -244,11 +242,9 @@ void SimpleShearTest::generate() {
   require_no_escape();
 }
 
-void SimpleShearTest::place_half_size_balls(const std::vector<double>& diameters) {
+void SimpleShearTest::place_half_size_balls(const std::vector<double>& diameters, std::mt19937_64& rng) {
   // Half-size balls at random, without overlap (solid fraction (1 - n)/8 ~ 0.08: few rejections).
   const double radius = config_.diameter / 2, height = config_.height;
-  std::mt19937_64 rng(config_.seed);
-  static_cast<void>(sample_diameters(config_.grading, (1.0 - config_.porosity) * pi * radius * radius * height, rng));
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const double cell = config_.grading.largest() / 2;
   std::unordered_map<std::int64_t, std::vector<std::size_t>> cells;
@@ -297,18 +293,19 @@ void SimpleShearTest::place_half_size_balls(const std::vector<double>& diameters
 void SimpleShearTest::expand_radii(const std::vector<double>& diameters) {
   constexpr int increments = 10;
   constexpr std::int64_t steps_per_increment = 50;
-  require(balls_by_id(world_->particles()).size() == diameters.size(), "generation: balls in the world",
-          balls_by_id(world_->particles()).size(), std::to_string(diameters.size()) + ", one per target diameter");
+  // The balls' ids in the order they were added, the order of `diameters` (store indices change
+  // when the store sorts itself, ids do not).
+  const std::vector<ParticleId> ids = ball_ids(world_->particles());
+  require(ids.size() == diameters.size(), "generation: balls in the world", ids.size(),
+          std::to_string(diameters.size()) + ", one per target diameter");
   GenerationProgress& g = generation_;
+  auto factor = [&] { return 0.5 + 0.5 * ((g.stage - 1) + static_cast<double>(g.increment) / increments) / config_.expansion_stages; };
   for (; g.phase <= GenerationProgress::Settling && g.stage <= config_.expansion_stages;
        ++g.stage, g.increment = 0, g.phase = GenerationProgress::Expanding) {
-    double factor = 0.5 + 0.5 * ((g.stage - 1) + static_cast<double>(g.increment) / increments) / config_.expansion_stages;
     while (g.phase == GenerationProgress::Expanding && g.increment < increments) {
       ++g.increment;
-      factor = 0.5 + 0.5 * ((g.stage - 1) + static_cast<double>(g.increment) / increments) / config_.expansion_stages;
       ParticleStore& p = world_->particles();
-      std::size_t n = 0;  // diameters are in the order the balls were added, which is their ids'
-      for (std::size_t index : balls_by_id(p)) p.set_radius(index, factor * diameters[n++] / 2);
+      for (std::size_t n = 0; n < ids.size(); ++n) p.set_radius(p.index_of(ids[n]), factor() * diameters[n] / 2);
       world_->invalidate_contacts();
       world_->update_time_step();
       world_->step(steps_per_increment);
@@ -317,7 +314,7 @@ void SimpleShearTest::expand_radii(const std::vector<double>& diameters) {
     }
     settle_generation([&] { return world_->unbalanced_force_ratio() < config_.equilibrium_ratio; });
     std::ostringstream detail;
-    detail << "stage " << g.stage << "/" << config_.expansion_stages << ", radius x" << factor << ", unbalanced ratio "
+    detail << "stage " << g.stage << "/" << config_.expansion_stages << ", radius x" << factor() << ", unbalanced ratio "
            << world_->unbalanced_force_ratio() << ", top plate " << world_->wall(top_).normal_stress() / 1e3
            << " kPa, porosity " << specimen_state().porosity;
     log_ << "[generation] " << detail.str() << std::endl;

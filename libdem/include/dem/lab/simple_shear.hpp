@@ -33,6 +33,7 @@
 #include <functional>
 #include <iosfwd>
 #include <memory>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -189,9 +190,10 @@ class SimpleShearTest {
   void friction_schedule();
   /// Steps the settle of the generation (generation.steps_per_stage at most) until `done`.
   void settle_generation(const std::function<bool()>& done);
-  void place_half_size_balls(const std::vector<double>& diameters);
+  void place_half_size_balls(const std::vector<double>& diameters, std::mt19937_64& rng);
   void expand_radii(const std::vector<double>& diameters);
-  std::vector<double> target_diameters() const;
+  /// The generation's diameters, drawn from `rng` (seeded with specimen.seed).
+  std::vector<double> target_diameters(std::mt19937_64& rng) const;
   void require_no_escape() const;
   void apply_restart_keys(const World& as_configured, const std::filesystem::path& file);
   double plate_gap() const;  // m, top minus bottom plate height
