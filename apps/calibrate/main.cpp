@@ -6,9 +6,11 @@
 #include <dem/core/errors.hpp>
 #include <dem/lab/calibration.hpp>
 
+#include "cli/calibration_command_line.hpp"
+
 int main(int argc, char** argv) {
   try {
-    auto cli = dem::lab::parse_calibration_command_line(argc, argv, std::cout);
+    auto cli = dem::cli::parse_calibration_command_line(argc, argv, std::cout);
     if (!cli) return 0;
     dem::lab::Calibration calibration(std::move(cli->config), cli->settings, std::move(cli->lab), cli->out_dir, cli->from,
                                       std::cout);

@@ -4,12 +4,13 @@
 #include <iostream>
 
 #include <dem/core/errors.hpp>
-#include <dem/lab/shear_cli.hpp>
 #include <dem/lab/simple_shear.hpp>
+
+#include "cli/shear_command_line.hpp"
 
 int main(int argc, char** argv) {
   try {
-    const auto cli = dem::lab::parse_shear_command_line(
+    const auto cli = dem::cli::parse_shear_command_line(
         argc, argv, "dem-simple-shear", "DEM simple-shear test (generate, consolidate, shear) with outputs in --out", std::cout);
     if (!cli) return 0;
     dem::lab::SimpleShearTest test(cli->config, cli->out_dir, std::cout);

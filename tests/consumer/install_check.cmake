@@ -5,6 +5,15 @@ execute_process(COMMAND ${CMAKE_COMMAND} --install ${BINARY_DIR} --prefix ${work
 if(rc)
   message(FATAL_ERROR "cmake --install failed (${rc})")
 endif()
+# The command-line parsing stays in the apps: nothing installed for a consumer (package files,
+# public headers) may pull in Boost.program_options.
+file(GLOB_RECURSE installed_files ${work}/prefix/lib*/cmake/*.cmake ${work}/prefix/include/*.hpp)
+foreach(f ${installed_files})
+  file(READ ${f} text)
+  if(text MATCHES "program_options")
+    message(FATAL_ERROR "${f} names Boost.program_options: a consumer of libdem::dem would need it")
+  endif()
+endforeach()
 execute_process(COMMAND ${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/consumer -B ${work}/build -DCMAKE_BUILD_TYPE=Release
                         -DCMAKE_PREFIX_PATH=${work}/prefix RESULT_VARIABLE rc)
 if(rc)

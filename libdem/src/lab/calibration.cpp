@@ -1,10 +1,7 @@
-// Calibration: configuration keys, the staged searches and their bookkeeping (Calibration), and
-// the command line of dem-calibrate. The specimen and its shears are in calibration_trials.cpp,
-// the searches themselves in calibration_search.cpp.
+// Calibration: configuration keys, the staged searches and their bookkeeping (Calibration). The
+// specimen and its shears are in calibration_trials.cpp, the searches themselves in
+// calibration_search.cpp; dem-calibrate's command line is in apps/cli/.
 #include <dem/lab/calibration.hpp>
-
-#include <boost/program_options.hpp>
-#include <omp.h>
 
 #include <algorithm>
 #include <chrono>
@@ -22,10 +19,7 @@
 #include <dem/io/csv.hpp>
 #include <dem/io/json.hpp>
 
-#include "command_line.hpp"
-
 namespace fs = std::filesystem;
-namespace po = boost::program_options;
 
 namespace dem::lab {
 namespace {
@@ -649,66 +643,6 @@ void Calibration::write_outputs(const CalibrationResult& result) {
   j["parallel_trials"] = settings_.parallel_trials;
   j["configuration"] = io::Json::parse(calibrated.to_json());
   j.save(out_dir_ / "summary.json");
-}
-
-// ------------------------------------------------------------------------- command line
-
-std::optional<CalibrationCommandLine> parse_calibration_command_line(int argc, char** argv, std::ostream& out) {
-  po::options_description opts("Options");
-  detail::add_common_options(opts, "1D, 2D or 4D: particle-size scale and the study's Table 1 values as the start",
-                             "configuration file (.ini or .json; may hold a [calibration] section)", "calibration.friction_max=1");
-  opts.add_options()("lab", po::value<std::string>(), "laboratory curve, CSV (format below); required")(
-      "out,o", po::value<std::string>()->default_value("runs/calibration"), "output folder; run again with the same folder to resume")(
-      "fit", po::value<std::string>()->default_value("emod,friction,rolling"), "parameters to fit: comma-separated emod (E*), friction (mu), rolling (mu_r)")(
-      "from", po::value<std::string>(), "restart file of the specimen: right after generation, or consolidated with the starting E* (dem-consolidate)")(
-      "parallel-trials", po::value<int>()->default_value(1), "trials run at the same time, each with threads/parallel-trials threads; results do not depend on it")(
-      "strain-percent", "strain columns of the lab CSV without a _percent suffix are in % (never guessed)")(
-      "eps-stress", po::value<double>(), "Pa: lab shear stresses with |value| below this are skipped by the relative difference (calibration.eps_stress, default 1000)")(
-      "eps-strain", po::value<double>(), "lab volumetric strains with |value| below this are skipped (calibration.eps_strain, default 1e-4)");
-  const po::variables_map vm = detail::parse_options(argc, argv, opts);
-  const io::Schema schema = calibration_schema();
-  if (vm.count("help")) {
-    out << "dem-calibrate: fits the ball-ball contact parameters E*, mu and mu_r so that a simulated simple-shear curve\n"
-           "matches a laboratory one, in the study's four stages: (1) E* from the initial slope of shear stress against\n"
-           "strain, (2) mu from the peak shear stress, (3) mu_r from the peak, (4) mu and mu_r together on the mean\n"
-           "relative difference of the whole curve. The specimen is generated and consolidated once, and again per E*; every\n"
-           "trial shears it along the first shear direction to the lab's largest strain.\n\n"
-           "Usage: dem-calibrate --lab lab.csv [--preset 4D] [--config FILE] [--set key=value ...] [--out DIR]\n"
-           "                     [--fit emod,friction,rolling] [--from FILE] [--threads N] [--parallel-trials N]\n\n"
-        << opts << "\nLab curve (--lab), CSV: " << lab_curve_columns_help
-        << "\nSpecimen: generated once (or --from), consolidated with the starting E*, mu and mu_r, and consolidated again\n"
-           "at each other E* (same packing; calibration.modulus_specimen); every trial of an E* loads its specimen with its\n"
-           "own mu and mu_r. History rows every min(output.every_strain, largest lab\n"
-           "strain / 50). Stages 1-3 are repeated calibration.cycles times (the initial slope also depends on mu).\n"
-           "\nOutputs in --out: trials.csv (one row per finished trial: stage, parameters, max/mean relative difference of\n"
-           "shear stress and volumetric strain in % (-1: no volumetric strain), initial slope and peak of the model, seconds),\n"
-           "calibrated.ini (the configuration with the best parameters, for dem-simple-shear --config), comparison.csv\n"
-           "(lab points, lab and best-model values, relative difference in %, -1 where skipped), summary.json, specimen/\n"
-           "(generated and consolidated restarts) and trials/<n>/history.csv. Relative difference: |lab - model| / |lab| on\n"
-           "the lab strain points, the model interpolated onto them (docs/model.md 8).\n"
-           "\nConfiguration keys (SI units; file sections are the part before the dot; the ball_ball values are the start):\n"
-        << schema.help_text();
-    return std::nullopt;
-  }
-  io::Config config = detail::resolve_config(schema, vm);
-  if (vm.count("eps-stress")) config.set("calibration.eps_stress", detail::exact_text(vm["eps-stress"].as<double>()));
-  if (vm.count("eps-strain")) config.set("calibration.eps_strain", detail::exact_text(vm["eps-strain"].as<double>()));
-  if (vm.count("print-config")) {
-    out << config.to_ini();
-    return std::nullopt;
-  }
-  CalibrationSettings settings = calibration_settings(config);
-  parse_fit_list(vm["fit"].as<std::string>(), settings);
-  const long threads = config.integer("engine.threads");
-  settings.threads = threads > 0 ? static_cast<int>(threads) : std::max(1, omp_get_max_threads());
-  settings.parallel_trials = vm["parallel-trials"].as<int>();
-  require(settings.parallel_trials >= 1, "--parallel-trials", settings.parallel_trials, ">= 1");
-  require(vm.count("lab") > 0, "--lab", "(missing)", "the laboratory curve CSV (see --help)");
-  LabCurveOptions lab_options;
-  lab_options.strain_percent = vm.count("strain-percent") > 0;
-  LabCurve lab = read_lab_curve(vm["lab"].as<std::string>(), lab_options);
-  const fs::path from = detail::restart_file(vm);
-  return CalibrationCommandLine{std::move(config), settings, std::move(lab), vm["out"].as<std::string>(), from};
 }
 
 }  // namespace dem::lab

@@ -325,17 +325,6 @@ class Calibration {
   std::unique_ptr<Progress> progress_;
 };
 
-/// Command line of dem-calibrate (see its --help).
-struct CalibrationCommandLine {
-  io::Config config;  // calibration_schema()
-  CalibrationSettings settings;
-  LabCurve lab;
-  std::filesystem::path out_dir, from;
-};
-
-/// Parses argv; nullopt after --help or --print-config (text written to `out`).
-std::optional<CalibrationCommandLine> parse_calibration_command_line(int argc, char** argv, std::ostream& out);
-
 namespace detail {
 /// The shortest text that reads back as the same double (trials.csv keys, folder names).
 std::string exact_text(double v);

@@ -1,4 +1,4 @@
-// Command line shared by the simple-shear apps: a configuration from defaults, a preset, a file
+// Command line of dem-simple-shear and dem-consolidate: a configuration from defaults, a preset, a file
 // and --set overrides (in that order of precedence), an output folder and an optional restart
 // file. Every problem is an InputError that names the option or key, the value and what is allowed.
 #pragma once
@@ -11,10 +11,10 @@
 #include <dem/io/config.hpp>
 #include <dem/lab/simple_shear_config.hpp>
 
-namespace dem::lab {
+namespace dem::cli {
 
 struct ShearCommandLine {
-  SimpleShearConfig config;
+  lab::SimpleShearConfig config;
   std::string resolved_json;      // every key, for summary.json and --print-config
   std::filesystem::path out_dir;  // --out
   std::filesystem::path from;     // --from restart file, empty if none
@@ -27,4 +27,4 @@ struct ShearCommandLine {
 std::optional<ShearCommandLine> parse_shear_command_line(int argc, char** argv, const std::string& program,
                                                          const std::string& purpose, std::ostream& out);
 
-}  // namespace dem::lab
+}  // namespace dem::cli

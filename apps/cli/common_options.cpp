@@ -1,10 +1,11 @@
-#include "command_line.hpp"
+#include "common_options.hpp"
 
 #include <dem/core/errors.hpp>
+#include <dem/lab/simple_shear_config.hpp>
 
 namespace po = boost::program_options;
 
-namespace dem::lab::detail {
+namespace dem::cli {
 
 void add_common_options(po::options_description& opts, const std::string& preset_help, const std::string& config_help, const std::string& set_example) {
   opts.add_options()("help,h", "print this help and every configuration key")(
@@ -28,7 +29,7 @@ po::variables_map parse_options(int argc, char** argv, const po::options_descrip
 
 io::Config resolve_config(io::Schema schema, const po::variables_map& vm) {
   io::Config config(std::move(schema));
-  for (const auto& [key, value] : preset_values(vm["preset"].as<std::string>())) config.set(key, value);
+  for (const auto& [key, value] : lab::preset_values(vm["preset"].as<std::string>())) config.set(key, value);
   if (vm.count("config")) config.load_file(vm["config"].as<std::string>());
   if (vm.count("set"))
     for (const std::string& assignment : vm["set"].as<std::vector<std::string>>()) config.set(assignment);
@@ -49,4 +50,4 @@ std::filesystem::path restart_file(const po::variables_map& vm) {
   return from;
 }
 
-}  // namespace dem::lab::detail
+}  // namespace dem::cli

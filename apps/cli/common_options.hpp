@@ -1,6 +1,5 @@
-// Private to the lab apps' command-line parsers (shear_cli.cpp, calibration.cpp): the options they
-// share and the one order in which they resolve a configuration, so that both apps read presets,
-// files, --set and --threads identically.
+// The options the apps' command lines share and the one order in which they resolve a
+// configuration, so that every app reads presets, files, --set and --threads identically.
 #pragma once
 
 #include <boost/program_options.hpp>
@@ -8,12 +7,12 @@
 #include <string>
 
 #include <dem/io/config.hpp>
-#include <dem/lab/simple_shear_config.hpp>
 
-namespace dem::lab::detail {
+namespace dem::cli {
 
 /// Adds --help, --preset, --config, --set, --threads and --print-config.
-void add_common_options(boost::program_options::options_description& opts, const std::string& preset_help, const std::string& config_help, const std::string& set_example);
+void add_common_options(boost::program_options::options_description& opts, const std::string& preset_help,
+                        const std::string& config_help, const std::string& set_example);
 
 /// Parses argv against `opts`; a malformed command line is an InputError that points to --help.
 boost::program_options::variables_map parse_options(int argc, char** argv,
@@ -26,4 +25,4 @@ io::Config resolve_config(io::Schema schema, const boost::program_options::varia
 /// The --from restart file, checked to exist; empty when not given.
 std::filesystem::path restart_file(const boost::program_options::variables_map& vm);
 
-}  // namespace dem::lab::detail
+}  // namespace dem::cli
