@@ -234,13 +234,14 @@ TEST_CASE("write_lines_vtp and write_triangles_vtp write their cells", "[io][vtk
   CHECK(data_array(lines, "connectivity") == std::vector<double>{0, 1, 2, 3});
   CHECK(data_array(lines, "offsets") == std::vector<double>{2, 4});
 
-  dem::io::write_triangles_vtp(dir.path / "wall.vtp", {o, x, y, z}, {{0, 1, 2}, {0, 2, 3}});
+  dem::io::write_triangles_vtp(dir.path / "wall.vtp", {o, x, y, z}, {{0, 1, 2}, {0, 2, 3}}, {{"wall", {0.0, 1.0}}});
   const std::string wall = slurp(dir.path / "wall.vtp");
   CHECK(tags_balanced(wall));
   CHECK(attribute(wall, "NumberOfPoints") == "4");
   CHECK(attribute(wall, "NumberOfPolys") == "2");
   CHECK(data_array(wall, "connectivity") == std::vector<double>{0, 1, 2, 0, 2, 3});
   CHECK(data_array(wall, "offsets") == std::vector<double>{3, 6});
+  CHECK(data_array(wall, "wall") == std::vector<double>{0, 1});
 }
 
 TEST_CASE("VTK writers reject inconsistent input without writing", "[io][vtk]") {
@@ -259,6 +260,8 @@ TEST_CASE("VTK writers reject inconsistent input without writing", "[io][vtk]") 
                     Contains("'force'") && Contains("0 entries") && Contains("1"));
   CHECK_THROWS_WITH(dem::io::write_triangles_vtp(file, two, {{0, 1, 2}}),
                     Contains("triangle 0") && Contains("2") && Contains("[0, 2)"));
+  CHECK_THROWS_WITH(dem::io::write_triangles_vtp(file, {two[0], two[1], {0, 1, 0}}, {{0, 1, 2}}, {{"wall", {0.0, 1.0}}}),
+                    Contains("'wall'") && Contains("2 entries") && Contains("1"));
   CHECK_FALSE(fs::exists(file));
   CHECK(entries_in(dir.path) == 0);
 }

@@ -153,7 +153,8 @@ void write_lines_vtp(const fs::path& path, const std::vector<std::pair<Vec3, Vec
 }
 
 void write_triangles_vtp(const fs::path& path, const std::vector<Vec3>& vertices,
-                         const std::vector<std::array<int, 3>>& triangles) {
+                         const std::vector<std::array<int, 3>>& triangles,
+                         const std::vector<CellData>& cell_scalars) {
   Cells cells{"Polys", {}, {}};
   const auto vertex_count = static_cast<std::int64_t>(vertices.size());
   for (std::size_t t = 0; t < triangles.size(); ++t) {
@@ -165,7 +166,7 @@ void write_triangles_vtp(const fs::path& path, const std::vector<Vec3>& vertices
     }
     cells.offsets.push_back(static_cast<std::int64_t>(cells.connectivity.size()));
   }
-  write_polydata(path, vertices, cells, {}, {}, {});
+  write_polydata(path, vertices, cells, {}, {}, cell_scalars);
 }
 
 PvdCollection::PvdCollection(fs::path pvd_path) : pvd_path_(std::move(pvd_path)) {

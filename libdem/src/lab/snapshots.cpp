@@ -46,44 +46,23 @@ std::vector<std::size_t> sorted_by_id(const ParticleStore& p, bool pebbles) {
   return order;
 }
 
-// io::write_triangles_vtp has no cell data, and the wall index is what lets ParaView colour or
-// hide single walls; so the walls file is written here, in the same ASCII PolyData layout.
+// The wall index of each triangle is what lets ParaView colour or hide single walls.
 void write_walls_vtp(const fs::path& path, const std::vector<FacetWall>& walls) {
   std::vector<Vec3> points;
-  std::vector<std::array<std::size_t, 3>> triangles;
-  std::vector<std::size_t> owner;
+  std::vector<std::array<int, 3>> triangles;
+  std::vector<double> owner;
   for (std::size_t w = 0; w < walls.size(); ++w) {
-    const std::size_t base = points.size();
+    const int base = static_cast<int>(points.size());
     for (const Vec3& v : walls[w].mesh.vertices) {
       require(v.allFinite(), "vertex of wall '" + walls[w].name + "'", "non-finite", "finite (m)");
       points.push_back(v);
     }
     for (const auto& t : walls[w].mesh.triangles) {
-      triangles.push_back({base + static_cast<std::size_t>(t[0]), base + static_cast<std::size_t>(t[1]),
-                           base + static_cast<std::size_t>(t[2])});
-      owner.push_back(w);
+      triangles.push_back({base + t[0], base + t[1], base + t[2]});
+      owner.push_back(static_cast<double>(w));
     }
   }
-  io::write_atomically(path, [&](std::ostream& out) {
-    out.imbue(std::locale::classic());
-    out.precision(std::numeric_limits<double>::max_digits10);
-    out << "<?xml version=\"1.0\"?>\n"
-        << "<VTKFile type=\"PolyData\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-        << "  <PolyData>\n    <Piece NumberOfPoints=\"" << points.size()
-        << "\" NumberOfVerts=\"0\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"" << triangles.size()
-        << "\">\n      <PointData>\n      </PointData>\n      <CellData Scalars=\"wall\">\n"
-        << "        <DataArray type=\"Int64\" Name=\"wall\" format=\"ascii\">\n";
-    for (const std::size_t w : owner) out << "          " << w << '\n';
-    out << "        </DataArray>\n      </CellData>\n      <Points>\n"
-        << "        <DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-    for (const Vec3& v : points) out << "          " << v.x() << ' ' << v.y() << ' ' << v.z() << '\n';
-    out << "        </DataArray>\n      </Points>\n      <Polys>\n"
-        << "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
-    for (const auto& t : triangles) out << "          " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
-    out << "        </DataArray>\n        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
-    for (std::size_t k = 0; k < triangles.size(); ++k) out << "          " << 3 * (k + 1) << '\n';
-    out << "        </DataArray>\n      </Polys>\n    </Piece>\n  </PolyData>\n</VTKFile>\n";
-  });
+  io::write_triangles_vtp(path, points, triangles, {{"wall", owner}});
 }
 
 std::string number_text(double value) {

@@ -46,10 +46,12 @@ void write_lines_vtp(const std::filesystem::path& path,
                      const std::vector<std::pair<Vec3, Vec3>>& segments,
                      const std::vector<CellData>& cell_scalars = {});
 
-/// Writes a triangle mesh: vertices (m) and triangles as vertex indices (0-based). An index
+/// Writes a triangle mesh: vertices (m) and triangles as vertex indices (0-based), with
+/// per-triangle scalars (e.g. {"wall", index of the wall each triangle belongs to}). An index
 /// outside [0, vertices.size()) is a dem::InputError naming the triangle.
 void write_triangles_vtp(const std::filesystem::path& path, const std::vector<Vec3>& vertices,
-                         const std::vector<std::array<int, 3>>& triangles);
+                         const std::vector<std::array<int, 3>>& triangles,
+                         const std::vector<CellData>& cell_scalars = {});
 
 /// A ParaView .pvd time series. Each add() rewrites the whole collection file atomically, so it
 /// is valid (and loadable while the run continues) after every snapshot.
