@@ -114,6 +114,12 @@ TEST_CASE("shear fidelity: history counts contacts two ways and measures the pro
     CHECK(row[h.column("profile_r2")] <= 1.0);
     CHECK(std::isfinite(row[h.column("profile_r2")]));
   }
+  // Equal slabs that split every ball exactly between them average to the specimen porosity.
+  for (const auto& row : h.rows) {
+    double mean = 0;
+    for (int b = 1; b <= 12; ++b) mean += row[h.column("profile_porosity_" + std::to_string(b))] / 12;
+    CHECK(mean == Approx(row[h.column("specimen_porosity")]).epsilon(1e-12));
+  }
   // Bins next to the plates hold no ball centre in a specimen 2.5 balls high (NaN); the lowest
   // bin with balls moves further than the highest, as the bottom plate does.
   const auto& last = h.rows.back();

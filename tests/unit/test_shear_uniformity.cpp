@@ -15,6 +15,7 @@ using dem::Vec3;
 using dem::measure::displacement_profile;
 using dem::measure::major_direction_deg;
 using dem::measure::non_coaxiality_deg;
+using dem::measure::porosity_profile;
 using dem::measure::shear_uniformity;
 
 namespace {
@@ -355,4 +356,38 @@ TEST_CASE("shear uniformity: bad input throws InputError", "[shear_uniformity]")
   auto broken = p;
   broken.count.pop_back();
   CHECK_THROWS_WITH(shear_uniformity(broken, 0.0, 0.03, 1e-4, 0.0), Catch::Contains("profile.count"));
+}
+
+TEST_CASE("porosity_profile splits each sphere exactly between the slabs it crosses", "[measure][uniformity]") {
+  const double a = 0.001, area = 1e-4;  // m, m^2
+  const double ball = 4.0 / 3.0 * dem::pi * a * a * a;
+  // Three slabs of 3 mm over [z_bottom, z_bottom + 9 mm]: a ball inside the middle one, a ball
+  // centred on the plane between the first two (half each), a ball cut by the plane between the
+  // last two at half its radius above the centre (cap of height a/2 above: 5/32 of the ball,
+  // the 27/32 below), and a ball half through the bottom plate (all of it in the first slab).
+  const double slab = 0.003;
+  const std::vector<double> z = {z_bottom + 1.5 * slab, z_bottom + slab, z_bottom + 2 * slab - 0.5 * a, z_bottom};
+  const std::vector<double> r(z.size(), a);
+  const std::vector<double> n = porosity_profile(z, r, z_bottom, z_bottom + 3 * slab, area, 3);
+  REQUIRE(n.size() == 3);
+  const double v = area * slab;
+  CHECK(n[0] == Approx(1 - (0.5 + 1.0) * ball / v).epsilon(1e-12));
+  CHECK(n[1] == Approx(1 - (1.0 + 0.5 + 27.0 / 32.0) * ball / v).epsilon(1e-12));
+  CHECK(n[2] == Approx(1 - 5.0 / 32.0 * ball / v).epsilon(1e-12));
+
+  // A simple cubic lattice of spheres fills pi/6 of space: every slab whose bounds fall on
+  // lattice mid-planes has the lattice porosity 1 - pi/6.
+  std::vector<double> zl, rl;
+  const double spacing = 2 * a, side = 10 * spacing;  // 10 x 10 spheres per layer
+  for (int k = 0; k < 12; ++k)
+    for (int c = 0; c < 100; ++c) zl.push_back(z_bottom + (k + 0.5) * spacing), rl.push_back(a);
+  for (const double porosity : porosity_profile(zl, rl, z_bottom, z_bottom + 12 * spacing, side * side, 4))
+    CHECK(porosity == Approx(1 - dem::pi / 6).epsilon(1e-12));
+
+  CHECK_THROWS_WITH(porosity_profile(z, r, z_bottom, z_top, area, 0), Catch::Contains("bins"));
+  CHECK_THROWS_WITH(porosity_profile(z, {a}, z_bottom, z_top, area, 3), Catch::Contains("r entries"));
+  CHECK_THROWS_WITH(porosity_profile(z, r, z_bottom, z_top, 0.0, 3), Catch::Contains("area"));
+  CHECK_THROWS_WITH(porosity_profile(z, r, z_top, z_bottom, area, 3), Catch::Contains("z_top"));
+  CHECK_THROWS_WITH(porosity_profile({z_bottom, not_a_number}, {a, a}, z_bottom, z_top, area, 3), Catch::Contains("z[1]"));
+  CHECK_THROWS_WITH(porosity_profile({z_bottom, z_bottom}, {a, -a}, z_bottom, z_top, area, 3), Catch::Contains("r[1]"));
 }

@@ -45,6 +45,7 @@ std::vector<std::string> history_columns(std::size_t rings, int bins) {
   for (const char* layer : {"bottom", "middle", "top"})
     for (const char* what : {"stress_ratio", "porosity"}) c.push_back(std::string("layer_") + layer + "_" + what);
   for (int b = 0; b < bins; ++b) c.push_back("profile_u_" + std::to_string(b + 1));
+  for (int b = 0; b < bins; ++b) c.push_back("profile_porosity_" + std::to_string(b + 1));
   for (std::size_t k = 0; k < rings; ++k)
     for (const char* axis : {"dx", "dy"}) c.push_back("ring_" + std::to_string(k + 1) + "_" + axis);
   return c;

@@ -1,7 +1,7 @@
 // The measures that show whether the specimen shears uniformly (docs/model.md 8.1): the horizontal
 // displacement profile over each output interval, its R^2 against uniform simple shear and the
-// strains of the thirds; three layer spheres; non-coaxiality; contacts within a detection gap;
-// each ring's displacement.
+// strains of the thirds; the porosity of the same height bins; three layer spheres;
+// non-coaxiality; contacts within a detection gap; each ring's displacement.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -90,6 +90,12 @@ std::vector<double> SimpleShearTest::uniformity_columns(const ShearState& s) {
     out.insert(out.end(), {layer.stress_ratio, layer.porosity});
   }
   out.insert(out.end(), bins.begin(), bins.end());
+  // The porosity of the same height bins, now: where the specimen is looser or dilates.
+  std::vector<double> z_now, r_now;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (!p.is_pebble(i)) z_now.push_back(p.x[i].z()), r_now.push_back(p.radius[i]);
+  const std::vector<double> porosity = measure::porosity_profile(z_now, r_now, z_bottom, z_top, area_, config_.profile_bins);
+  out.insert(out.end(), porosity.begin(), porosity.end());
   for (const Clump& ring : w.clumps()) out.insert(out.end(), {ring.displacement.x(), ring.displacement.y()});
 
   // This row starts the next interval.

@@ -91,6 +91,35 @@ DisplacementProfile displacement_profile(const std::vector<double>& z, const std
   return p;
 }
 
+std::vector<double> porosity_profile(const std::vector<double>& z, const std::vector<double>& r, double z_bottom,
+                                     double z_top, double area, int bins) {
+  require(bins >= 1, "bins", bins, ">= 1");
+  require(z.size() == r.size(), "r entries", r.size(), "the number of heights z, " + std::to_string(z.size()));
+  require(std::isfinite(area) && area > 0, "area", area, "finite and > 0 (m^2)");
+  require_plates(z_bottom, z_top);
+  const double slab = (z_top - z_bottom) / bins;
+  // Volume of the sphere of radius a centred at 0 below the plane at height t.
+  auto below = [](double a, double t) {
+    const double h = std::clamp(t + a, 0.0, 2 * a);
+    return pi * h * h * (3 * a - h) / 3;
+  };
+  std::vector<double> solid(static_cast<std::size_t>(bins), 0.0);
+  for (std::size_t b = 0; b < z.size(); ++b) {
+    require(std::isfinite(z[b]), element("z", b), z[b], "finite (m)");
+    require(std::isfinite(r[b]) && r[b] > 0, element("r", b), r[b], "finite and > 0 (m)");
+    const int first = std::clamp(static_cast<int>(std::floor((z[b] - r[b] - z_bottom) / slab)), 0, bins - 1);
+    const int last = std::clamp(static_cast<int>(std::floor((z[b] + r[b] - z_bottom) / slab)), 0, bins - 1);
+    for (int k = first; k <= last; ++k) {
+      const double lo = k == 0 ? -r[b] : z_bottom + k * slab - z[b];         // the end slabs take what
+      const double hi = k == bins - 1 ? r[b] : z_bottom + (k + 1) * slab - z[b];  // lies beyond a plate
+      solid[static_cast<std::size_t>(k)] += below(r[b], hi) - below(r[b], lo);
+    }
+  }
+  std::vector<double> porosity(solid.size());
+  for (std::size_t k = 0; k < solid.size(); ++k) porosity[k] = 1.0 - solid[k] / (area * slab);
+  return porosity;
+}
+
 ShearUniformity shear_uniformity(const DisplacementProfile& profile, double z_bottom, double z_top, double u_bottom,
                                  double u_top) {
   const std::size_t n = profile.z_centre.size();

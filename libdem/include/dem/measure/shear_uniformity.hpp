@@ -44,6 +44,17 @@ struct DisplacementProfile {
 DisplacementProfile displacement_profile(const std::vector<double>& z, const std::vector<double>& u, double z_bottom,
                                          double z_top, int bins);
 
+/// Porosity of `bins` equal horizontal slabs between z_bottom and z_top (m) of a specimen of
+/// cross-section `area` (m^2): 1 - (solid volume in the slab) / (area x slab height), each
+/// sphere (centre height z[b], radius r[b]) split exactly between the slabs it crosses (the
+/// volume of a sphere between two planes). The whole cross-section is one sample, so a slab of a
+/// few ball diameters holds hundreds of balls and shows a density gradient that a measurement
+/// sphere of a few tens of balls cannot. Overlaps are counted twice, as in the specimen porosity.
+/// Throws InputError for bins < 1, z and r of different sizes, a non-finite z, a radius that is
+/// not finite and > 0, area <= 0, or z_top <= z_bottom.
+std::vector<double> porosity_profile(const std::vector<double>& z, const std::vector<double>& r, double z_bottom,
+                                     double z_top, double area, int bins);
+
 /// Result of shear_uniformity(). Strains are dimensionless, with the sign of gamma above: a
 /// uniform field gives (U_bottom - U_top)/H in every third.
 struct ShearUniformity {
