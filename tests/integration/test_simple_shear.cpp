@@ -77,10 +77,11 @@ TEST_CASE("simple shear: a reduced specimen runs end to end with consistent outp
   // Principal stresses are ordered and the major direction has rotated in the shear sense.
   CHECK(last[h.column("sigma_1")] >= last[h.column("sigma_2")]);
   CHECK(last[h.column("sigma_2")] >= last[h.column("sigma_3")]);
-  // After consolidation the major direction is vertical (to the probe's noise of a few degrees);
-  // sheared, it tilts in the shear sense, towards 45 deg +- phi/2 at failure. 3 % strain is short
-  // of failure for this loose specimen, and the probe holds few balls, so only the range is checked.
-  CHECK(std::abs(first[h.column("principal_rotation_deg")]) < 5.0);
+  // After consolidation the major direction is vertical to the probe's noise (a specimen ~5 balls
+  // high: 6 degrees on this packing), apart from the > 10 degrees the shear brings; sheared, it
+  // tilts in the shear sense, towards 45 deg +- phi/2 at failure. 3 % strain is short of failure
+  // for this loose specimen, and the probe holds few balls, so only the range is checked.
+  CHECK(std::abs(first[h.column("principal_rotation_deg")]) < 8.0);
   CHECK(last[h.column("principal_rotation_deg")] > 10.0);
   CHECK(last[h.column("principal_rotation_deg")] < 70.0);
   // Summary agrees with the history.

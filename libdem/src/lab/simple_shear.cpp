@@ -368,7 +368,13 @@ void SimpleShearTest::friction_schedule() {
     log_ << "[generation] friction schedule: mu " << friction_now_ << ", mu_r " << rolling_friction_now_ << ", porosity "
          << specimen_state().porosity << ", top plate " << world_->wall(top_).normal_stress() / 1e3 << " kPa" << std::endl;
   }
-  const double porosity = specimen_state().porosity;
+  const SpecimenState state = specimen_state();
+  const double porosity = state.porosity;
+  if (state.height <= config_.height * (1 + 1e-9) && servo_->achieved_stress() < 0.9 * config_.generation_stress)
+    log_ << "note: the specimen settled onto the top plate's lowest position (specimen.height = " << config_.height
+         << " m) at porosity " << porosity << ", ball-ball friction " << friction_now_ << ": the plate holds it at "
+         << servo_->achieved_stress() << " Pa, not generation.stress = " << config_.generation_stress
+         << " Pa; a looser specimen.porosity than this friction lets the balls stand at\n";
   if (porosity > config_.porosity + config_.generation_porosity_tolerance)
     log_ << "note: the friction schedule reached zero friction at porosity " << porosity << ", above specimen.porosity = "
          << config_.porosity << " + " << config_.generation_porosity_tolerance << ": spheres of this grading settle no denser "

@@ -106,7 +106,7 @@ io::Schema simple_shear_schema() {
          .help = "overlap / smaller radius that stops the run as unstable (also applied to a resumed restart file)", .min = 0.0, .max = 2.0, .min_exclusive = true});
   s.add({.key = "engine.threads", .type = ValueType::Integer, .default_value = "0", .unit = "-", .help = "OpenMP threads, 0: OMP_NUM_THREADS", .min = 0.0, .max = 256.0});
   s.add({.key = "generation.stages", .type = ValueType::Integer, .default_value = "8", .unit = "-", .help = "radius expansion stages from half to full size", .min = 1.0, .max = 100.0});
-  s.add({.key = "generation.steps_per_stage", .type = ValueType::Integer, .default_value = "3000", .unit = "-", .help = "largest number of steps of one expansion stage", .min = 1.0});
+  s.add({.key = "generation.steps_per_stage", .type = ValueType::Integer, .default_value = "12000", .unit = "-", .help = "largest number of steps of one expansion stage's settling, and of each friction-schedule step's (too few leave the schedule's compaction from the top plate unfinished: a specimen looser at the bottom)", .min = 1.0});
   s.add({.key = "generation.equilibrium_ratio", .default_value = "0.01", .unit = "-", .help = "mean unbalanced over mean contact force that ends a stage early", .min = 0.0, .min_exclusive = true});
   s.add({.key = "generation.friction", .type = ValueType::Text, .default_value = "ball-ball", .unit = "-",
          .help = "ball-ball friction while the radii grow: frictionless, ball-ball (the ball_ball.friction value) or a number >= 0"});

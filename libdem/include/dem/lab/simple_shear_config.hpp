@@ -65,7 +65,7 @@ struct SimpleShearConfig {
   int threads = 0;               // 0: OMP_NUM_THREADS
   // generation (radius expansion)
   int expansion_stages = 8;
-  long expansion_steps = 3000;          // steps per stage
+  long expansion_steps = 12000;         // steps per stage and per friction-schedule step, at most
   double equilibrium_ratio = 1e-2;      // -, mean unbalanced / mean contact force that ends a stage
   double generation_friction = 0.0;     // -, ball-ball mu while the radii grow
   double generation_rolling_friction = 0.0;  // -, ball-ball mu_r while the radii grow
