@@ -8,10 +8,10 @@
 #include <sstream>
 
 #include <dem/core/errors.hpp>
-#include <dem/io/json.hpp>
 #include <dem/lab/resume_rules.hpp>
 #include <dem/lab/simple_shear.hpp>
 
+#include "support/json.hpp"
 #include "support/reduced_specimen.hpp"
 
 using namespace dem;
@@ -161,11 +161,11 @@ TEST_CASE("resume: the next stage's keys and the outputs may change, and summary
     test.run();
     test.write_summary(c.to_json());
   }
-  const io::Json summary = io::Json::parse(file_text(dir / "summary.json"));
-  const io::Json& changed = summary.at("resume_changed_keys");
-  CHECK(changed.at("shear.mode").at("restart_file").as_string() == "drained");
-  CHECK(changed.at("shear.mode").at("this_run").as_string() == "constant-volume");
-  CHECK(changed.at("output.every_strain").at("this_run").as_string() == "0.0025");
+  const auto summary = dem::testing::load_json(dir / "summary.json");
+  const auto& changed = summary.at("resume_changed_keys");
+  CHECK(changed.at("shear.mode").at("restart_file").get<std::string>() == "drained");
+  CHECK(changed.at("shear.mode").at("this_run").get<std::string>() == "constant-volume");
+  CHECK(changed.at("output.every_strain").at("this_run").get<std::string>() == "0.0025");
   CHECK_THAT(log.str(), Contains("applied shear.mode = constant-volume (the restart file had drained)"));
 
   // Mid-shear the shear mode is part of what is done.

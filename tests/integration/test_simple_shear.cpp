@@ -8,9 +8,9 @@
 #include <sstream>
 
 #include <dem/io/csv.hpp>
-#include <dem/io/json.hpp>
 #include <dem/lab/simple_shear.hpp>
 
+#include "support/json.hpp"
 #include "support/reduced_specimen.hpp"
 
 using namespace dem;
@@ -85,10 +85,10 @@ TEST_CASE("simple shear: a reduced specimen runs end to end with consistent outp
   CHECK(last[h.column("principal_rotation_deg")] > 10.0);
   CHECK(last[h.column("principal_rotation_deg")] < 70.0);
   // Summary agrees with the history.
-  const io::Json s = io::Json::parse(file_text(dir / "summary.json"));
-  CHECK(s.at("balls").as_number() == static_cast<double>(test.ball_count()));
-  CHECK(s.at("final").at("shear_stress").as_number() == last[h.column("shear_stress")]);
-  CHECK(s.at("inertial_number").as_number() == Approx(1e-3).epsilon(1e-9));
+  const auto s = dem::testing::load_json(dir / "summary.json");
+  CHECK(s.at("balls").get<double>() == static_cast<double>(test.ball_count()));
+  CHECK(s.at("final").at("shear_stress").get<double>() == last[h.column("shear_stress")]);
+  CHECK(s.at("inertial_number").get<double>() == Approx(1e-3).epsilon(1e-9));
 }
 
 TEST_CASE("simple shear: same seed gives the same history, and a resumed run equals the uninterrupted one", "[simple-shear]") {

@@ -17,7 +17,8 @@
 #include <dem/core/errors.hpp>
 #include <dem/io/atomic_file.hpp>
 #include <dem/io/csv.hpp>
-#include <dem/io/json.hpp>
+
+#include "../io/json_file.hpp"
 
 namespace fs = std::filesystem;
 
@@ -642,7 +643,7 @@ void Calibration::write_outputs(const CalibrationResult& result) {
   j["threads"] = settings_.threads;
   j["parallel_trials"] = settings_.parallel_trials;
   j["configuration"] = io::Json::parse(calibrated.to_json());
-  j.save(out_dir_ / "summary.json");
+  io::save_json(out_dir_ / "summary.json", j);
 }
 
 }  // namespace dem::lab

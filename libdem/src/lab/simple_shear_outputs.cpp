@@ -11,12 +11,13 @@
 
 #include <dem/core/errors.hpp>
 #include <dem/io/checkpoint.hpp>
-#include <dem/io/json.hpp>
 #include <dem/lab/fabric_log.hpp>
 #include <dem/lab/resume_rules.hpp>
 #include <dem/lab/simple_shear.hpp>
 #include <dem/lab/snapshots.hpp>
 #include <dem/measure/shear_uniformity.hpp>
+
+#include "../io/json_file.hpp"
 
 namespace dem::lab {
 
@@ -441,7 +442,7 @@ void SimpleShearTest::load_restart(const std::filesystem::path& file, ResumeInte
 void SimpleShearTest::write_summary(const std::string& resolved_config_json) const {
   io::Json j;
   const double d_max = config_.grading.largest();
-  j["balls"] = static_cast<double>(ball_count_);
+  j["balls"] = ball_count_;
   j["porosity_generated"] = generated_porosity_;
   j["d_min_m"] = config_.grading.smallest();
   j["d_max_m"] = d_max;
@@ -552,7 +553,7 @@ void SimpleShearTest::write_summary(const std::string& resolved_config_json) con
       j["uniformity"] = u;
     }
   }
-  j["steps"] = static_cast<double>(world_->step_count());
+  j["steps"] = world_->step_count();
   j["wall_clock_s"] = wall_seconds_;
   j["particle_steps_per_second"] =
       wall_seconds_ > 0 ? static_cast<double>(world_->step_count()) * static_cast<double>(world_->particles().size()) / wall_seconds_ : 0.0;
@@ -569,7 +570,7 @@ void SimpleShearTest::write_summary(const std::string& resolved_config_json) con
     }
     j["resume_changed_keys"] = changed;
   }
-  j.save(out_dir_ / "summary.json");
+  io::save_json(out_dir_ / "summary.json", j);
   if (h_over_d <= 10.0)
     log_ << "warning: H/d_max = " << h_over_d << " is not above 10 (ASTM D6528 as quoted by the study)\n";
   if (d_over_h <= 2.5) log_ << "warning: D/H = " << d_over_h << " is not above 2.5 (ASTM D6528)\n";
