@@ -5,7 +5,7 @@
 
 #include <omp.h>
 
-#include <dem/contact/contact_model.hpp>
+#include <dem/core/parallel.hpp>
 
 namespace dem {
 

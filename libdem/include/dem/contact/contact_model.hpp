@@ -22,6 +22,7 @@
 
 #include <dem/contact/contact_sets.hpp>
 #include <dem/contact/kinematics.hpp>
+#include <dem/core/parallel.hpp>
 
 namespace dem {
 
@@ -35,11 +36,6 @@ concept ContactLaw = requires(const typename L::Params& p, const ContactKinemati
   { p.validate(std::string{}) };
   { L::name } -> std::convertible_to<const char*>;
 } && std::is_trivially_destructible_v<typename L::State> && std::is_default_constructible_v<typename L::State>;
-
-/// Threads worth using for a loop of `count` items: small loops run serially, since starting a
-/// parallel region costs more than it saves (and oversubscribed cores make it far worse).
-inline constexpr std::int64_t min_parallel_items = 4096;
-inline int threads_for(std::int64_t count, int threads) { return count >= min_parallel_items ? threads : 1; }
 
 /// Everything a contact kernel needs besides the contacts themselves.
 struct KernelContext {
