@@ -374,7 +374,7 @@ void SimpleShearTest::friction_schedule() {
     log_ << "note: the specimen settled onto the top plate's lowest position (specimen.height = " << config_.height
          << " m) at porosity " << porosity << ", ball-ball friction " << friction_now_ << ": the plate holds it at "
          << servo_->achieved_stress() << " Pa, not generation.stress = " << config_.generation_stress
-         << " Pa; a looser specimen.porosity than this friction lets the balls stand at\n";
+         << " Pa: specimen.porosity is looser than the balls settle to at this friction\n";
   if (porosity > config_.porosity + config_.generation_porosity_tolerance)
     log_ << "note: the friction schedule reached zero friction at porosity " << porosity << ", above specimen.porosity = "
          << config_.porosity << " + " << config_.generation_porosity_tolerance << ": spheres of this grading settle no denser "
