@@ -47,6 +47,8 @@ const std::map<std::string, ResumeRule>& rules() {
     for (const char* key : {"output.every_strain", "output.fabric_strains", "output.snapshot_strains",
                             "output.restart_every_steps", "output.progress_seconds"})
       t[key] = free_key();
+    // The cyclic stage starts from a consolidated specimen and is not resumed mid-way.
+    t["cyclic."] = free_key();
     return t;
   }();
   return table;

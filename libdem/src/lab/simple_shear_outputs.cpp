@@ -365,6 +365,7 @@ void SimpleShearTest::open_outputs(const OutputOptions& options) {
   policy.replace = options.replace;
   policy.continues_own_run = own;
   policy.run_files = run_files();
+  policy.run_files.insert(policy.run_files.end(), options.more_run_files.begin(), options.more_run_files.end());
   policy.replace_option = options.replace_option;
   policy.program = options.program;
   folder_ = std::make_unique<io::OutputFolder>(out_dir_, policy);

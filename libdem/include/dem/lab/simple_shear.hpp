@@ -63,6 +63,7 @@ struct OutputOptions {
   bool replace = false;                  // remove the results of another run in the folder
   std::string program = "libdem";        // named in the lock file
   std::string replace_option = "--replace";
+  std::vector<std::string> more_run_files{};  // results of a protocol built on this test (cyclic shear)
 };
 
 /// One history row (SI; stresses compression positive, as soil mechanics quotes them).
@@ -140,6 +141,7 @@ class SimpleShearTest {
   /// to its point. Called by the first stage that writes if not before; call it earlier to claim
   /// the folder before any work, with the options of the command line.
   void open_outputs(const OutputOptions& options = {});
+  bool outputs_open() const { return folder_ != nullptr; }
   /// The files and folders, relative to the output folder, that hold a run's results.
   static std::vector<std::string> run_files();
 
@@ -152,11 +154,23 @@ class SimpleShearTest {
   /// Balls whose centre has left the specimen: beyond the inner radius of the ring at its height
   /// plus a pebble radius, or beyond a plate. Each history row counts them; any stops the run.
   std::size_t balls_outside() const;
+  /// Throws InstabilityError naming the first ball that left the specimen, where it is and the
+  /// likely cause; nothing when none has.
+  void require_no_escape() const;
   /// summary.json: counts, porosity, ASTM D6528 ratios, peak and final values, timing, and the
   /// keys a resume changed.
   void write_summary(const std::string& resolved_config_json) const;
 
   const World& world() const { return *world_; }
+  /// The world, for a protocol that drives the consolidated specimen further (lab/cyclic_shear.hpp):
+  /// the plates, the servo and the rings stay this test's, its controller keeps running first.
+  World& world() { return *world_; }
+  WallId top_plate() const { return top_; }
+  WallId bottom_plate() const { return bottom_; }
+  /// The top plate's vertical servo; nullptr before the consolidation.
+  ServoWall* vertical_servo() { return servo_.get(); }
+  double area() const { return area_; }  // m^2, the specimen's cross-section
+  const std::filesystem::path& output_folder() const { return out_dir_; }
   ShearStage stage() const { return stage_; }
   const SimpleShearConfig& config() const { return config_; }
   double consolidated_height() const { return consolidated_height_; }  // m
@@ -194,7 +208,6 @@ class SimpleShearTest {
   void expand_radii(const std::vector<double>& diameters);
   /// The generation's diameters, drawn from `rng` (seeded with specimen.seed).
   std::vector<double> target_diameters(std::mt19937_64& rng) const;
-  void require_no_escape() const;
   void apply_restart_keys(const World& as_configured, const std::filesystem::path& file);
   double plate_gap() const;  // m, top minus bottom plate height
   void record_history();
