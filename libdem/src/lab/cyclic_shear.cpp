@@ -1,0 +1,359 @@
+// The cyclic simple-shear protocol: the per-step plate control, the stages, the rows and the stop
+// criteria. Outputs are written after every row, so the files are complete if the run stops.
+#include <dem/lab/cyclic_shear.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <ostream>
+#include <sstream>
+
+#include <dem/core/errors.hpp>
+#include <dem/lab/fabric_log.hpp>
+#include <dem/lab/snapshots.hpp>
+#include <dem/measure/shear_uniformity.hpp>
+
+#include "../io/json_file.hpp"
+
+namespace dem::lab {
+
+namespace {
+
+Vec3 horizontal(Vec3 v) {
+  v.z() = 0.0;
+  return v;
+}
+
+Vec3 direction(double deg) {
+  const double a = deg * pi / 180.0;
+  return Vec3(std::cos(a), std::sin(a), 0.0);
+}
+
+std::string cycle_label(double cycles) {
+  std::ostringstream out;
+  out << "cycle_" << cycles;
+  return out.str();
+}
+
+}  // namespace
+
+// Runs as a World controller after the specimen's own (vertical servo, rings): sets the plates'
+// horizontal velocities for this step and adds this step's work tau . d gamma.
+struct CyclicShearTest::Drive {
+  enum class Mode { Idle, StressServo, StrainPath, Monotonic };
+  Mode mode = Mode::Idle;
+  std::int64_t phase_start_step = 0;
+  WallId top = -1, bottom = -1;
+  double area = 0.0, height = 0.0;       // m^2, m (H_c)
+  double stiffness_ratio = 1.0;          // ball-facet kn / ks
+  double relaxation = 0.2, max_speed = 0.0;
+  double steps_per_cycle = 1.0;
+  std::function<Vec3(double)> stress_target;  // Pa, of the cycles N in the phase at the end of the step
+  std::function<Vec3(double)> strain_target;  // -, of N
+  Vec3 monotonic_velocity = Vec3::Zero();     // m/s, of the bottom plate
+  double work = 0.0;                          // J/m^3
+
+  void operator()(World& w) {
+    if (mode == Mode::Idle) return;
+    FacetWall& top_plate = w.wall(top);
+    FacetWall& bottom_plate = w.wall(bottom);
+    const double dt = w.time_step();
+    const double n_next = static_cast<double>(w.step_count() - phase_start_step + 1) / steps_per_cycle;
+    const Vec3 tau = horizontal(top_plate.force) / area;
+    Vec3 v_top = Vec3::Zero(), v_bottom = Vec3::Zero();
+    if (mode == Mode::StressServo) {
+      // More stress along d needs the top plate to move along -d (gamma grows).
+      const double shear_stiffness = top_plate.stiffness_sum / stiffness_ratio;
+      if (shear_stiffness > 0.0) {
+        const double gain = relaxation * area / (shear_stiffness * dt);
+        v_top = -gain * (stress_target(n_next) - tau);
+        if (v_top.norm() > max_speed) v_top *= max_speed / v_top.norm();
+      }
+    } else if (mode == Mode::StrainPath) {
+      const Vec3 now = horizontal(bottom_plate.displacement - top_plate.displacement);
+      v_bottom = (strain_target(n_next) * height - now) / dt;
+    } else {
+      v_bottom = monotonic_velocity;
+    }
+    top_plate.velocity.x() = v_top.x(), top_plate.velocity.y() = v_top.y();
+    bottom_plate.velocity.x() = v_bottom.x(), bottom_plate.velocity.y() = v_bottom.y();
+    work += tau.dot(v_bottom - v_top) * dt / height;
+  }
+};
+
+std::vector<std::string> CyclicShearTest::history_columns() {
+  return {"time", "step", "phase", "cycles", "shear_strain_x", "shear_strain_y", "shear_strain", "shear_stress_x",
+          "shear_stress_y", "shear_stress", "target_x", "target_y", "vertical_stress", "vertical_stress_bottom",
+          "excess_pore_pressure", "pore_pressure_ratio", "height", "height_change", "stress_ratio", "work",
+          "double_amplitude_strain", "lateral_stress", "sigma_1", "sigma_2", "sigma_3", "coordination_number",
+          "mechanical_coordination_number", "porosity", "specimen_porosity", "non_coaxiality_deg", "kinetic_energy",
+          "balls_outside"};
+}
+
+std::vector<std::string> CyclicShearTest::run_files() {
+  return {"cyclic_history.csv", "cycles.csv", "cyclic_fabric.csv", "cyclic_snapshots"};
+}
+
+CyclicShearTest::CyclicShearTest(SimpleShearTest& specimen, CyclicShearConfig config, std::ostream& log)
+    : specimen_(specimen),
+      config_(std::move(config)),
+      log_(log),
+      path_(config_.path == CyclicShape::Series ? CyclicPath::from_csv(config_.series_file, 1.0)
+                                                : CyclicPath(config_.path, config_.direction_deg, config_.minor_ratio)),
+      drive_(std::make_shared<Drive>()),
+      history_(history_columns(), io::Missing::Allowed),
+      cycles_(direction(config_.direction_deg), static_cast<int>(config_.rows_per_cycle)) {
+  require(specimen_.stage() == ShearStage::Consolidated, "cyclic shear: the specimen's stage", static_cast<int>(specimen_.stage()),
+          "2 (consolidated: run consolidate() or load a consolidated restart)");
+  World& w = specimen_.world();
+  const double height = specimen_.consolidated_height();
+  shear_rate_ = specimen_.shear_rate();
+  const double period = config_.period > 0 ? config_.period : 4.0 * 0.01 / shear_rate_;
+  steps_per_row_ = std::max<std::int64_t>(1, std::llround(period / (static_cast<double>(config_.rows_per_cycle) * w.time_step())));
+  outcome_.period = static_cast<double>(steps_per_row_ * config_.rows_per_cycle) * w.time_step();
+  outcome_.consolidated_height = height;
+  if (config_.path == CyclicShape::Series) {
+    // A "time" column is in seconds of the stepped period: read again with it.
+    path_ = CyclicPath::from_csv(config_.series_file, outcome_.period);
+  }
+  fabric_ = std::make_unique<FabricLog>(specimen_.output_folder() / "cyclic_fabric.csv");
+  snapshots_ = std::make_unique<SnapshotWriter>(specimen_.output_folder() / "cyclic_snapshots");
+  std::sort(config_.snapshot_cycles.begin(), config_.snapshot_cycles.end());
+  std::sort(config_.fabric_cycles.begin(), config_.fabric_cycles.end());
+
+  Drive& d = *drive_;
+  d.top = specimen_.top_plate();
+  d.bottom = specimen_.bottom_plate();
+  d.area = specimen_.area();
+  d.height = height;
+  d.stiffness_ratio = specimen_.config().ball_facet.stiffness_ratio;
+  d.relaxation = config_.servo_relaxation;
+  d.steps_per_cycle = static_cast<double>(steps_per_row_ * config_.rows_per_cycle);
+  d.max_speed = config_.servo_max_speed > 0 ? config_.servo_max_speed : 10.0 * shear_rate_ * height;
+  std::weak_ptr<Drive> weak = drive_;
+  w.add_controller([weak](World& world) {
+    if (const auto drive = weak.lock()) (*drive)(world);
+  });
+}
+
+CyclicShearTest::~CyclicShearTest() = default;
+
+Vec3 CyclicShearTest::stress_target(double cycles) const {
+  const Vec3 p = path_.at(cycles);
+  return static_stress_ + outcome_.vertical_stress_initial * (path_.absolute() ? p : Vec3(config_.csr * p));
+}
+
+Vec3 CyclicShearTest::strain_target(double cycles) const {
+  const Vec3 p = path_.at(cycles);
+  return cyclic_start_strain_ + (path_.absolute() ? p : Vec3(config_.strain_amplitude * p));
+}
+
+void CyclicShearTest::start_phase(CyclicPhase phase) {
+  World& w = specimen_.world();
+  Drive& d = *drive_;
+  d.phase_start_step = w.step_count();
+  if (phase == CyclicPhase::Static) {
+    d.mode = Drive::Mode::StressServo;
+    const Vec3 target = static_stress_;
+    d.stress_target = [target](double n) { return target * std::min(1.0, n / 0.25); };
+  } else if (phase == CyclicPhase::Cyclic) {
+    const FacetWall& top = w.wall(d.top);
+    const FacetWall& bottom = w.wall(d.bottom);
+    cyclic_start_strain_ = horizontal(bottom.displacement - top.displacement) / d.height;
+    d.work = 0.0;
+    if (config_.control == CyclicControl::Stress) {
+      d.mode = Drive::Mode::StressServo;
+      d.stress_target = [this](double n) { return stress_target(n); };
+    } else {
+      d.mode = Drive::Mode::StrainPath;
+      d.strain_target = [this](double n) { return strain_target(n); };
+    }
+  } else {
+    d.mode = Drive::Mode::Monotonic;
+    d.monotonic_velocity = shear_rate_ * d.height * direction(config_.post_direction_deg);
+  }
+}
+
+void CyclicShearTest::record_row() {
+  const World& w = specimen_.world();
+  const ShearState s = specimen_.measure();
+  const Drive& d = *drive_;
+  const FacetWall& top = w.wall(d.top);
+  const FacetWall& bottom = w.wall(d.bottom);
+  const double sigma_v0 = outcome_.vertical_stress_initial;
+  const double excess = sigma_v0 - s.vertical_stress;
+  const Vec3 rate = horizontal(bottom.velocity - top.velocity);
+  const Mat3 stress = -s.sphere.stress, strain_rate = -s.sphere.strain_rate;
+  const double coaxiality = rate.norm() > 0 ? measure::non_coaxiality_deg(stress, strain_rate, rate.normalized()) : NAN;
+  const double phase_cycles = static_cast<double>(w.step_count() - d.phase_start_step) / d.steps_per_cycle;
+  Vec3 target = Vec3::Constant(NAN);
+  if (d.mode == Drive::Mode::StressServo) target = d.stress_target(phase_cycles);
+  if (d.mode == Drive::Mode::StrainPath) target = d.strain_target(phase_cycles);
+  const double cycles = current_phase_ == CyclicPhase::Cyclic ? phase_cycles
+                        : current_phase_ == CyclicPhase::Static ? 0.0 : outcome_.cycles;
+  CyclicSample sample;
+  sample.cycles = cycles;
+  sample.strain = Vec3(s.shear_strain_x, s.shear_strain_y, 0.0);
+  sample.stress = Vec3(s.shear_stress_x, s.shear_stress_y, 0.0);
+  sample.pore_pressure_ratio = excess / sigma_v0;
+  sample.work = d.work;
+  sample.coordination_number = s.sphere.coordination_number;
+  sample.mechanical_coordination_number = s.sphere.mechanical_coordination_number;
+  sample.non_coaxiality_deg = coaxiality;
+  sample.vertical_stress = s.vertical_stress;
+  if (current_phase_ == CyclicPhase::Cyclic) cycles_.add(sample);
+  const double da = current_phase_ == CyclicPhase::Cyclic ? cycles_.double_amplitude_strain() : NAN;
+  history_.add_row({s.time, static_cast<double>(w.step_count()), static_cast<double>(static_cast<int>(current_phase_)), cycles,
+                    s.shear_strain_x, s.shear_strain_y, s.shear_strain, s.shear_stress_x, s.shear_stress_y, s.shear_stress,
+                    target.x(), target.y(), s.vertical_stress, s.vertical_stress_bottom, excess, excess / sigma_v0, s.height,
+                    (s.height - outcome_.consolidated_height) / outcome_.consolidated_height,
+                    s.vertical_stress > 0 ? s.shear_stress / s.vertical_stress : NAN, d.work, da, s.lateral_stress,
+                    s.sphere.principal.sigma_1, s.sphere.principal.sigma_2, s.sphere.principal.sigma_3,
+                    s.sphere.coordination_number, s.sphere.mechanical_coordination_number, s.sphere.porosity,
+                    s.specimen_porosity, coaxiality, s.kinetic_energy, static_cast<double>(s.balls_outside)});
+  last_sample_ = sample;
+  last_double_amplitude_ = da;
+}
+
+void CyclicShearTest::write_outputs() const {
+  const std::filesystem::path& out = specimen_.output_folder();
+  history_.save(out / "cyclic_history.csv");
+  io::CsvTable table(CycleLog::columns(), io::Missing::Allowed);
+  for (const CycleRow& r : cycles_.cycles()) table.add_row(CycleLog::values(r));
+  table.save(out / "cycles.csv");
+}
+
+void CyclicShearTest::run() {
+  const auto t0 = std::chrono::steady_clock::now();
+  World& w = specimen_.world();
+  ServoWall* servo = specimen_.vertical_servo();
+  require(servo != nullptr, "cyclic shear: the top plate's servo", "missing", "a consolidated specimen");
+  if (!specimen_.outputs_open()) specimen_.open_outputs({.more_run_files = run_files()});
+  outcome_.vertical_stress_initial = specimen_.measure().vertical_stress;
+  const double sigma_v0 = outcome_.vertical_stress_initial;
+  servo->set_target(specimen_.config().vertical_stress);
+  servo->hold_position(config_.drainage == CyclicDrainage::ConstantVolume);
+  static_stress_ = config_.static_csr * sigma_v0 * direction(config_.static_direction_deg);
+  log_ << "cyclic shear: " << (config_.control == CyclicControl::Stress ? "stress" : "strain") << "-controlled "
+       << to_string(config_.path) << ", "
+       << (config_.control == CyclicControl::Stress ? "CSR " + std::to_string(config_.csr) : "strain amplitude " + std::to_string(config_.strain_amplitude))
+       << ", " << (config_.drainage == CyclicDrainage::ConstantVolume ? "constant volume" : "drained") << ", sigma_v0 "
+       << sigma_v0 / 1e3 << " kPa, period " << outcome_.period << " s (" << steps_per_row_ * config_.rows_per_cycle
+       << " steps), H_c " << outcome_.consolidated_height * 1e3 << " mm\n";
+
+  current_phase_ = CyclicPhase::Static;
+  record_row();
+  if (config_.static_csr > 0) {
+    start_phase(CyclicPhase::Static);
+    const std::int64_t rows = std::max<std::int64_t>(2, config_.rows_per_cycle / 2);  // half a period: ramp, then hold
+    for (std::int64_t r = 0; r < rows; ++r) {
+      w.step(steps_per_row_);
+      record_row();
+    }
+    log_ << "static shear stress " << last_sample_.stress.norm() / 1e3 << " kPa (target " << static_stress_.norm() / 1e3 << " kPa)\n";
+  }
+
+  current_phase_ = CyclicPhase::Cyclic;
+  start_phase(CyclicPhase::Cyclic);
+  record_row();  // N = 0
+  auto first = [](double& at, double cycles) {
+    if (std::isnan(at)) at = cycles;
+  };
+  std::int64_t row = 0;
+  while (true) {
+    w.step(steps_per_row_);
+    ++row;
+    record_row();
+    const double n = static_cast<double>(row) / static_cast<double>(config_.rows_per_cycle);
+    outcome_.cycles = n;
+    if (config_.ru_limit > 0 && last_sample_.pore_pressure_ratio >= config_.ru_limit) first(outcome_.cycles_to_ru, n);
+    if (config_.da_strain_limit > 0 && last_double_amplitude_ >= config_.da_strain_limit) first(outcome_.cycles_to_da_strain, n);
+    while (next_snapshot_ < config_.snapshot_cycles.size() && n >= config_.snapshot_cycles[next_snapshot_] - 1e-12)
+      snapshots_->write(w, cycle_label(config_.snapshot_cycles[next_snapshot_++]), w.time(), last_sample_.strain.norm());
+    while (next_fabric_ < config_.fabric_cycles.size() && n >= config_.fabric_cycles[next_fabric_] - 1e-12)
+      fabric_->record(w, cycle_label(config_.fabric_cycles[next_fabric_++]), last_sample_.strain.norm());
+    write_outputs();
+    specimen_.require_no_escape();
+    if (!std::isnan(outcome_.cycles_to_ru)) outcome_.stop = "pore pressure ratio";
+    else if (!std::isnan(outcome_.cycles_to_da_strain)) outcome_.stop = "double-amplitude strain";
+    else if (n >= static_cast<double>(config_.max_cycles) - 1e-12) outcome_.stop = "cycles";
+    else if (n >= path_.length_cycles() - 1e-12) outcome_.stop = "series end";
+    if (!outcome_.stop.empty()) break;
+    progress(n);
+  }
+  log_ << "cyclic stage ended at N = " << outcome_.cycles << " (" << outcome_.stop << "): r_u "
+       << last_sample_.pore_pressure_ratio << ", double-amplitude strain " << last_double_amplitude_ << "\n";
+
+  if (config_.post_strain > 0) {
+    current_phase_ = CyclicPhase::Post;
+    start_phase(CyclicPhase::Post);
+    const FacetWall& top = w.wall(drive_->top);
+    const FacetWall& bottom = w.wall(drive_->bottom);
+    const Vec3 start = horizontal(bottom.displacement - top.displacement);
+    const double every = specimen_.config().output_every_strain;
+    const auto steps = std::max<std::int64_t>(1, std::llround(every / (shear_rate_ * w.time_step())));
+    while ((horizontal(bottom.displacement - top.displacement) - start).norm() / drive_->height < config_.post_strain * (1 - 1e-12)) {
+      w.step(steps);
+      record_row();
+      write_outputs();
+      specimen_.require_no_escape();
+    }
+    log_ << "post-cyclic shear to " << config_.post_strain << ": tau " << last_sample_.stress.norm() / 1e3 << " kPa, sigma_v "
+         << last_sample_.vertical_stress / 1e3 << " kPa\n";
+  }
+  drive_->mode = Drive::Mode::Idle;
+  w.wall(drive_->top).velocity.x() = w.wall(drive_->top).velocity.y() = 0.0;
+  w.wall(drive_->bottom).velocity.setZero();
+  write_outputs();
+  specimen_.save_restart(specimen_.output_folder() / "final.restart");
+  outcome_.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  log_ << "cyclic shear done in " << outcome_.wall_seconds << " s\n";
+}
+
+void CyclicShearTest::progress(double cycles) const {
+  const double now = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  if (now - last_progress_ < specimen_.config().progress_seconds) return;
+  last_progress_ = now;
+  log_ << "[cyclic] N " << cycles << " of " << config_.max_cycles << ", tau " << last_sample_.stress.norm() / 1e3 << " kPa, sigma_v "
+       << last_sample_.vertical_stress / 1e3 << " kPa, r_u " << last_sample_.pore_pressure_ratio << ", double-amplitude strain "
+       << last_double_amplitude_ << std::endl;
+}
+
+void CyclicShearTest::write_summary(const std::string& resolved_config_json) const {
+  io::Json j;
+  const SpecimenState& c = specimen_.consolidated_state();
+  j["balls"] = specimen_.ball_count();
+  j["consolidated_height_m"] = outcome_.consolidated_height;
+  io::Json sc;
+  sc["porosity"] = c.porosity;
+  sc["coordination_number"] = c.coordination_number;
+  sc["mechanical_coordination_number"] = c.mechanical_coordination_number;
+  sc["vertical_stress_Pa"] = c.vertical_stress;
+  sc["k0"] = c.k0;
+  j["specimen_consolidated"] = sc;
+  j["vertical_stress_initial_Pa"] = outcome_.vertical_stress_initial;
+  j["period_s"] = outcome_.period;
+  j["steps_per_cycle"] = steps_per_row_ * config_.rows_per_cycle;
+  j["cycles"] = outcome_.cycles;
+  j["stop"] = outcome_.stop;
+  io::Json l;
+  l["pore_pressure_ratio"] = config_.ru_limit > 0 ? io::Json(outcome_.cycles_to_ru) : io::Json();
+  l["double_amplitude_strain"] = config_.da_strain_limit > 0 ? io::Json(outcome_.cycles_to_da_strain) : io::Json();
+  j["cycles_to_liquefaction"] = l;
+  if (!history_.rows().empty()) {
+    io::Json f;
+    const auto& last = history_.rows().back();
+    for (const char* name : {"shear_strain", "shear_stress", "vertical_stress", "pore_pressure_ratio", "double_amplitude_strain",
+                             "coordination_number", "mechanical_coordination_number"})
+      f[name] = last[history_.column_index(name)];
+    j["final"] = f;
+  }
+  j["wall_clock_s"] = outcome_.wall_seconds;
+  j["threads"] = specimen_.world().threads();
+  j["time_step_s"] = specimen_.world().time_step();
+  j["configuration"] = io::Json::parse(resolved_config_json);
+  io::save_json(specimen_.output_folder() / "summary.json", j);
+}
+
+}  // namespace dem::lab

@@ -1,0 +1,163 @@
+// The cyclic simple-shear test on the reduced specimen (30 mm x 12 mm, 4D balls: about 170,
+// consolidated to 200 kPa): the stress servo holds its amplitude, a circular path keeps |tau|
+// while it turns, constant volume holds the height, r_u is the vertical stress drop, the strain
+// path is followed exactly, and each stop criterion ends the run at the first row that meets it.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <sstream>
+
+#include <dem/io/csv.hpp>
+#include <dem/lab/cyclic_shear.hpp>
+
+#include "support/reduced_specimen.hpp"
+#include "support/temp_dir.hpp"
+
+using namespace dem;
+using namespace dem::lab;
+
+namespace {
+
+struct Run {
+  dem::testing::TempDir dir;
+  std::ostringstream log;
+  SimpleShearTest specimen;
+  explicit Run(const std::string& name)
+      : dir(name), specimen(simple_shear_config(dem::testing::reduced_specimen()), dir.path, log) {
+    specimen.open_outputs({.more_run_files = CyclicShearTest::run_files()});
+    specimen.generate();
+    specimen.consolidate();
+  }
+};
+
+// The rows of the cyclic stage, with the column of `name`.
+struct Rows {
+  const io::CsvTable& table;
+  std::vector<std::size_t> cyclic;
+  explicit Rows(const io::CsvTable& t) : table(t) {
+    for (std::size_t r = 0; r < t.rows().size(); ++r)
+      if (t.rows()[r][t.column_index("phase")] == 1.0) cyclic.push_back(r);
+  }
+  double at(std::size_t r, const std::string& name) const { return table.rows()[r][table.column_index(name)]; }
+};
+
+}  // namespace
+
+TEST_CASE("cyclic shear: a stress-controlled sine at constant volume holds its amplitude and the height", "[cyclic][integration]") {
+  Run run("cyclic_sine");
+  CyclicShearConfig c;
+  c.csr = 0.1;
+  c.max_cycles = 3;
+  CyclicShearTest test(run.specimen, c, run.log);
+  test.run();
+  const double sigma_v0 = test.outcome().vertical_stress_initial, amplitude = c.csr * sigma_v0;
+  CHECK(sigma_v0 == Approx(200e3).epsilon(0.01));  // the consolidation's tolerance
+  // Peaks of every complete cycle within 2 % of the amplitude (the servo lags the target by a few
+  // degrees, so the peak falls between rows: 40 rows a cycle sample it within cos(4.5 deg)).
+  REQUIRE(test.cycles().cycles().size() == 3);
+  for (const CycleRow& r : test.cycles().cycles()) {
+    CHECK(r.complete);
+    CHECK(r.stress_max == Approx(amplitude).epsilon(0.02));
+    CHECK(-r.stress_min == Approx(amplitude).epsilon(0.02));
+    CHECK(r.energy > 0.0);  // a hysteresis loop takes work
+  }
+  const Rows rows(test.history());
+  const double h_c = test.outcome().consolidated_height;
+  for (std::size_t r = 0; r < test.history().rows().size(); ++r) {
+    CHECK(std::abs(rows.at(r, "height") - h_c) <= 1e-6 * h_c);
+    // r_u from the plate stress, row by row: (sigma_v0 - sigma_v) / sigma_v0.
+    CHECK(rows.at(r, "pore_pressure_ratio") == Approx((sigma_v0 - rows.at(r, "vertical_stress")) / sigma_v0).margin(1e-12));
+  }
+  CHECK(test.outcome().stop == "cycles");
+  CHECK(test.outcome().cycles == 3.0);
+  // The outputs are on disk, complete.
+  CHECK(io::read_csv(run.dir.path / "cycles.csv").rows.size() == 3);
+  CHECK(io::read_csv(run.dir.path / "cyclic_history.csv", io::Missing::Allowed).rows.size() == test.history().rows().size());
+}
+
+TEST_CASE("cyclic shear: a circular stress path keeps |tau| while its direction turns once per cycle", "[cyclic][integration]") {
+  Run run("cyclic_circle");
+  CyclicShearConfig c;
+  c.path = CyclicShape::Circle;
+  c.csr = 0.1;
+  c.max_cycles = 3;
+  CyclicShearTest test(run.specimen, c, run.log);
+  test.run();
+  const double amplitude = c.csr * test.outcome().vertical_stress_initial;
+  const Rows rows(test.history());
+  double turned = 0.0;
+  Vec3 previous = Vec3::Zero();
+  for (std::size_t r : rows.cyclic) {
+    const double n = rows.at(r, "cycles");
+    if (n < 1.0) continue;  // the ramp and the first turn
+    const Vec3 tau(rows.at(r, "shear_stress_x"), rows.at(r, "shear_stress_y"), 0.0);
+    CHECK(tau.norm() == Approx(amplitude).epsilon(0.03));
+    if (previous.norm() > 0) turned += std::atan2(previous.cross(tau).z(), previous.dot(tau));
+    previous = tau;
+  }
+  // From N = 1 to N = 3: two turns, clockwise seen from above (from e towards d).
+  CHECK(turned * 180 / pi == Approx(-720.0).margin(5.0));
+}
+
+TEST_CASE("cyclic shear: strain control follows the path exactly; drained holds the vertical stress", "[cyclic][integration]") {
+  Run run("cyclic_strain");
+  CyclicShearConfig c;
+  c.control = CyclicControl::Strain;
+  c.drainage = CyclicDrainage::Drained;
+  c.strain_amplitude = 0.004;
+  c.direction_deg = 90.0;
+  c.max_cycles = 2;
+  CyclicShearTest test(run.specimen, c, run.log);
+  test.run();
+  const Rows rows(test.history());
+  double trapezoid = 0.0;
+  for (std::size_t k = 0; k < rows.cyclic.size(); ++k) {
+    const std::size_t r = rows.cyclic[k];
+    const double n = rows.at(r, "cycles");
+    CHECK(rows.at(r, "shear_strain_y") == Approx(0.004 * std::sin(2 * pi * n)).margin(1e-12));
+    CHECK(std::abs(rows.at(r, "shear_strain_x")) < 1e-12);
+    if (k > 0) {  // the loop's area by the rows, beside the per-step sum of the history
+      const std::size_t p = rows.cyclic[k - 1];
+      trapezoid += 0.5 * (rows.at(r, "shear_stress_y") + rows.at(p, "shear_stress_y")) *
+                   (rows.at(r, "shear_strain_y") - rows.at(p, "shear_strain_y"));
+    }
+  }
+  const double work = rows.at(rows.cyclic.back(), "work");
+  CHECK(work > 0.0);
+  CHECK(work == Approx(trapezoid).epsilon(0.1));  // 40 rows a cycle resolve the loop to a few per cent
+  // The vertical servo keeps sigma_v at the consolidation stress within its tolerance on average.
+  double mean = 0.0;
+  for (std::size_t r : rows.cyclic) mean += rows.at(r, "vertical_stress") / static_cast<double>(rows.cyclic.size());
+  CHECK(mean == Approx(200e3).epsilon(0.02));
+}
+
+TEST_CASE("cyclic shear: each stop criterion ends the run at the first row that meets it", "[cyclic][integration]") {
+  Run run("cyclic_stop");
+  run.specimen.save_restart(run.dir.path / "start.restart");
+  for (const char* criterion : {"pore pressure ratio", "double-amplitude strain"}) {
+    DYNAMIC_SECTION(criterion) {
+      dem::testing::TempDir other(std::string("cyclic_stop_") + (criterion[0] == 'p' ? "ru" : "da"));
+      std::ostringstream log;
+      SimpleShearTest specimen(simple_shear_config(dem::testing::reduced_specimen()), other.path, log);
+      specimen.load_restart(run.dir.path / "start.restart");
+      CyclicShearConfig c;
+      c.csr = 0.15;
+      c.max_cycles = 10;
+      const bool by_ru = criterion[0] == 'p';
+      c.ru_limit = by_ru ? 0.03 : 0.0;
+      c.da_strain_limit = by_ru ? 0.0 : 0.012;
+      CyclicShearTest test(specimen, c, log);
+      test.run();
+      CHECK(test.outcome().stop == criterion);
+      const Rows rows(test.history());
+      const std::string column = by_ru ? "pore_pressure_ratio" : "double_amplitude_strain";
+      const double limit = by_ru ? c.ru_limit : c.da_strain_limit;
+      REQUIRE(rows.cyclic.size() >= 2);
+      CHECK(rows.at(rows.cyclic.back(), column) >= limit);
+      for (std::size_t k = 0; k + 1 < rows.cyclic.size(); ++k) CHECK(rows.at(rows.cyclic[k], column) < limit);
+      const double n = by_ru ? test.outcome().cycles_to_ru : test.outcome().cycles_to_da_strain;
+      CHECK(n == rows.at(rows.cyclic.back(), "cycles"));
+      CHECK(n < 10.0);
+    }
+  }
+}
