@@ -27,4 +27,12 @@ execute_process(COMMAND ${work}/build/consumer RESULT_VARIABLE rc OUTPUT_VARIABL
 if(rc OR NOT out MATCHES "kinetic")
   message(FATAL_ERROR "the consumer did not run (${rc}): ${out}")
 endif()
+if(PYTHON)
+  execute_process(COMMAND ${CMAKE_COMMAND} -E env PYTHONPATH=${work}/prefix/${PYTHON_DIR}
+                          ${PYTHON} -c "import libdem; w = libdem.World(); w.add_ball([0, 0, 0], 1e-3, 2650.0); print('python', w.size, libdem.__file__)"
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(rc OR NOT out MATCHES "python 1 ${work}/prefix/")
+    message(FATAL_ERROR "the installed Python module did not import from ${work}/prefix/${PYTHON_DIR} (${rc}): ${out}${err}")
+  endif()
+endif()
 message(STATUS "installed libdem: consumer built and ran")

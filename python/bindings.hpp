@@ -1,0 +1,11 @@
+// The parts of the Python module, each binding one floor of the library.
+#pragma once
+
+#include <pybind11/pybind11.h>
+
+namespace dem::python {
+
+void bind_engine(pybind11::module_& m);   // World, particles, laws, walls, clumps, rings, servo, measurement
+void bind_lab(pybind11::module_& m);      // the simple-shear and cyclic-shear protocols
+
+}  // namespace dem::python

@@ -1,0 +1,129 @@
+"""The engine through Python: a head-on impact against its analytic duration, views that follow the
+state, a Python controller driving a wall, callbacks and errors that carry the library's message."""
+
+import math
+
+import numpy as np
+import pytest
+
+import libdem
+
+
+def two_balls(kn, radius=1e-3, density=2650.0, speed=0.05):
+    settings = libdem.WorldSettings()
+    settings.local_damping = 0.0
+    world = libdem.World(settings)
+    world.set_contact_model(libdem.ContactKind.BALL_BALL, libdem.LinearParams.constant(kn, kn, 0.0), "ball-ball")
+    world.add_ball([0.0, 0.0, 0.0], radius, density, velocity=[speed, 0.0, 0.0])
+    world.add_ball([2 * radius + 1e-6, 0.0, 0.0], radius, density, velocity=[-speed, 0.0, 0.0])
+    return world
+
+
+def test_head_on_impact_lasts_pi_sqrt_meff_over_kn():
+    # Linear spring, no damping: contact lasts half a period of m_eff on kn, pi sqrt(m_eff / kn),
+    # and the balls leave with the speeds they came with.
+    kn, radius, density = 1e4, 1e-3, 2650.0
+    world = two_balls(kn, radius, density)
+    mass = density * 4.0 / 3.0 * math.pi * radius**3
+    expected = math.pi * math.sqrt(0.5 * mass / kn)
+    world.time_step = expected / 400  # 400 steps of contact: the duration is resolved to 1/200
+    touching = []
+    world.add_callback(1, lambda w: touching.append(w.contact_count(libdem.ContactKind.BALL_BALL) > 0))
+    world.step(1200)
+    steps = sum(touching)
+    assert touching[0] is False and touching[-1] is False
+    assert steps * world.time_step == pytest.approx(expected, rel=2 / 400)
+    speeds = np.linalg.norm(world.velocities, axis=1)
+    assert speeds == pytest.approx([0.05, 0.05], rel=1e-3)
+
+
+def test_views_follow_the_state_after_each_step_and_are_read_only():
+    settings = libdem.WorldSettings()
+    settings.local_damping = 0.0
+    world = libdem.World(settings)
+    world.set_contact_model(libdem.ContactKind.BALL_BALL, libdem.LinearParams.constant(1e4, 1e4, 0.0), "ball-ball")
+    ids = world.add_balls(np.array([[0.0, 0, 0], [0.01, 0, 0], [0.0, 0.01, 0]]), np.array([1e-3, 1e-3, 1.5e-3]), 2650.0)
+    assert list(ids) == [0, 1, 2]
+    velocity = np.array([[0.1, 0, 0], [0, -0.2, 0], [0, 0, 0.3]])
+    world.set_velocities(velocity)
+    world.time_step = 1e-5
+    start = world.positions.copy()
+    for n in range(1, 6):
+        world.step()
+        # No contact, no damping, no gravity: x = x0 + v t, row by row in storage order.
+        order = [world.index_of(i) for i in ids]
+        assert np.allclose(world.positions[order], start + velocity * n * 1e-5, rtol=0, atol=1e-15)
+        assert np.array_equal(world.ids[order], ids)
+    assert world.radii[world.index_of(2)] == 1.5e-3
+    with pytest.raises(ValueError):
+        world.positions[0, 0] = 1.0
+
+
+def test_a_python_controller_moves_a_wall():
+    world = libdem.World()
+    world.set_contact_model(libdem.ContactKind.BALL_FACET, libdem.LinearParams.constant(1e4, 1e4, 0.0), "ball-facet")
+    world.add_ball([0.0, 0.0, 0.01], 1e-3, 2650.0)
+    wall = world.add_wall("floor", libdem.make_disc([0, 0, 0], 0.02, [0, 0, -1]), [0, 0, -1])
+    world.time_step = 1e-5
+
+    def lower(w):
+        w.wall(0).velocity = [0.0, 0.0, -0.01] if w.step_count >= 4 else [0.0, 0.0, 0.0]
+
+    world.add_controller(lower)
+    world.step(10)
+    # Six steps (4..9) at -0.01 m/s.
+    assert wall.displacement == pytest.approx([0, 0, -0.01 * 6 * 1e-5], abs=1e-18)
+
+
+def test_run_until_and_measurement_sphere():
+    world = two_balls(1e4)
+    world.time_step = 1e-6
+    assert world.run_until(lambda w: w.contact_count(libdem.ContactKind.BALL_BALL) > 0, 1, 100000)
+    m = world.measure([1e-3, 0.0, 0.0], 5e-3)
+    assert m["balls"] == 2 and m["contacts"] == 1
+    assert m["stress"].shape == (3, 3)
+    c = world.contacts()
+    assert list(c["kind"]) == [int(libdem.ContactKind.BALL_BALL)]
+    assert c["normal"][0] == pytest.approx([1, 0, 0])
+
+
+def test_errors_carry_the_library_message():
+    world = libdem.World()
+    with pytest.raises(ValueError, match="radius = -1"):
+        world.add_ball([0, 0, 0], -1.0, 2650.0)
+    # A time step far above the stable one: the overlap grows past the limit.
+    bad = two_balls(1e6, speed=1.0)
+    bad.time_step = 1e-3
+    with pytest.raises(libdem.InstabilityError, match="ball id"):
+        bad.step(20)
+
+    def fails(w):
+        raise KeyError("from the controller")
+
+    world.add_ball([0, 0, 0], 1e-3, 2650.0)
+    world.set_contact_model(libdem.ContactKind.BALL_BALL, libdem.LinearParams.constant(1e4, 1e4, 0.0), "ball-ball")
+    world.add_controller(fails)
+    with pytest.raises(KeyError, match="from the controller"):
+        world.step()
+
+
+def test_save_and_load_state_continue_bit_for_bit(tmp_path):
+    a = two_balls(1e4)
+    a.time_step = 1e-6
+    a.step(300)
+    a.save_state(tmp_path / "state.bin")
+    a.step(300)
+    b = two_balls(1e4)
+    b.load_state(tmp_path / "state.bin")
+    b.step(300)
+    assert np.array_equal(a.positions, b.positions) and np.array_equal(a.velocities, b.velocities)
+
+
+def test_each_law_is_set_as_given():
+    # A RollingLinearParams is also a LinearParams: the rolling law must not be taken for the plain one.
+    world = libdem.World()
+    world.set_contact_model(libdem.ContactKind.BALL_BALL, libdem.RollingLinearParams.deformable(1e7, 1.0, 0.5, 0.2))
+    world.set_contact_model(libdem.ContactKind.BALL_FACET, libdem.LinearParams.deformable(1e7, 1.0, 0.5))
+    assert world.contact_law(libdem.ContactKind.BALL_BALL) == "rolling-linear"
+    assert world.contact_law(libdem.ContactKind.BALL_FACET) == "linear"
+    assert world.contact_law(libdem.ContactKind.BALL_PEBBLE) == ""

@@ -1,0 +1,35 @@
+"""The Python examples run as a user runs them: the pour settles into the box, and the oedometer's
+K0 is larger on unloading than on loading at the same stress (an overconsolidated packing keeps
+locked-in lateral stress)."""
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "python"
+
+
+def run(script, *args, cwd=None):
+    return subprocess.run([sys.executable, str(EXAMPLES / script), *map(str, args)], check=True, capture_output=True,
+                          text=True, env=dict(os.environ), cwd=cwd).stdout
+
+
+def test_pour_settles_into_the_box():
+    lines = run("pour.py", 1000).splitlines()[1:]
+    top = [float(line.split()[4]) for line in lines[1:]]
+    kinetic = [float(line.split()[2]) for line in lines]
+    assert max(top) < 8e-3 * 1e3 + 8.0  # mm: the balls stay below the lattice's starting top
+    assert all(t < top[0] + 1e-9 for t in top)  # the pile only comes down
+    assert kinetic[-1] < max(kinetic)
+
+
+def test_oedometer_unloading_k0_is_above_loading(tmp_path):
+    run("oedometer.py", tmp_path / "oedometer.csv", cwd=tmp_path)
+    rows = np.loadtxt(tmp_path / "oedometer.csv", delimiter=",", skiprows=1)
+    sigma_v, k0 = rows[:, 0], rows[:, 2]
+    assert np.allclose(sigma_v, [50e3, 100e3, 200e3, 100e3, 50e3], rtol=0.02)  # the servo's tolerance
+    assert k0[3] > k0[1] and k0[4] > k0[0]  # unloading above loading at 100 and 50 kPa
+    assert np.all((k0 > 0.2) & (k0 < 1.5))
