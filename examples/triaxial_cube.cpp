@@ -11,7 +11,7 @@
 #include <random>
 #include <vector>
 
-#include <dem/boundary/servo_wall.hpp>
+#include <dem/control/servo_wall.hpp>
 #include <dem/dem.hpp>
 #include <dem/io/csv.hpp>
 

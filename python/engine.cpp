@@ -15,7 +15,7 @@
 #include <memory>
 
 #include <dem/boundary/clump_ring.hpp>
-#include <dem/boundary/servo_wall.hpp>
+#include <dem/control/servo_wall.hpp>
 #include <dem/contact/linear_law.hpp>
 #include <dem/core/errors.hpp>
 #include <dem/core/world.hpp>

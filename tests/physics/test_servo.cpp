@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include <dem/boundary/servo_wall.hpp>
+#include <dem/control/servo_wall.hpp>
 
 #include "support/scenes.hpp"
 

@@ -7,7 +7,7 @@
 // horizontal force of the sand on the top plate / area, as in SimpleShearTest.
 // - Strain control moves the bottom plate so that gamma is exactly on the path at every step.
 // - Stress control moves the top plate horizontally by a servo on its own force, the rule of the
-//   vertical servo (boundary/servo_wall.hpp) turned sideways: v = -G (tau_target - tau) with
+//   vertical servo (control/servo_wall.hpp) turned sideways: v = -G (tau_target - tau) with
 //   G = alpha A / (sum k_s dt), sum k_s the tangential stiffness of the plate's contacts (their
 //   normal stiffness over ball_facet.stiffness_ratio), capped at cyclic.servo_max_speed. Each step
 //   then removes the fraction alpha of the stress error if the balls stood still.

@@ -37,7 +37,7 @@
 #include <string>
 #include <vector>
 
-#include <dem/boundary/servo_wall.hpp>
+#include <dem/control/servo_wall.hpp>
 #include <dem/core/world.hpp>
 #include <dem/io/config.hpp>
 #include <dem/io/csv.hpp>

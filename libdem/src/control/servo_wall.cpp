@@ -1,4 +1,4 @@
-#include <dem/boundary/servo_wall.hpp>
+#include <dem/control/servo_wall.hpp>
 
 #include <algorithm>
 #include <cmath>
