@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 
 #include <dem/io/csv.hpp>
@@ -48,6 +49,8 @@ TEST_CASE("cyclic shear: a stress-controlled sine at constant volume holds its a
   CyclicShearConfig c;
   c.csr = 0.1;
   c.max_cycles = 3;
+  c.snapshot_cycles = {3.0, 1.0};
+  c.fabric_cycles = {2.0};
   CyclicShearTest test(run.specimen, c, run.log);
   test.run();
   const double sigma_v0 = test.outcome().vertical_stress_initial, amplitude = c.csr * sigma_v0;
@@ -73,6 +76,13 @@ TEST_CASE("cyclic shear: a stress-controlled sine at constant volume holds its a
   // The outputs are on disk, complete.
   CHECK(io::read_csv(run.dir.path / "cycles.csv").rows.size() == 3);
   CHECK(io::read_csv(run.dir.path / "cyclic_history.csv", io::Missing::Allowed).rows.size() == test.history().rows().size());
+  // Snapshots and fabric at the chosen cycles, in order whatever order they were given in.
+  const std::string index = dem::testing::file_text(run.dir.path / "cyclic_snapshots" / "snapshots.csv");
+  CHECK(index.find("cycle_1,") != std::string::npos);
+  CHECK(index.find("cycle_3,") != std::string::npos);
+  CHECK(index.find("cycle_1,") < index.find("cycle_3,"));
+  CHECK(std::filesystem::exists(run.dir.path / "cyclic_snapshots" / "balls_cycle_3.vtp"));
+  CHECK(dem::testing::file_text(run.dir.path / "cyclic_fabric.csv").find("cycle_2,") != std::string::npos);
 }
 
 TEST_CASE("cyclic shear: a circular stress path keeps |tau| while its direction turns once per cycle", "[cyclic][integration]") {
@@ -160,4 +170,33 @@ TEST_CASE("cyclic shear: each stop criterion ends the run at the first row that 
       CHECK(n < 10.0);
     }
   }
+}
+
+TEST_CASE("cyclic shear: a static shear stress is held under the cycles, and the post-cyclic shear adds its strain", "[cyclic][integration]") {
+  Run run("cyclic_static_post");
+  CyclicShearConfig c;
+  c.static_csr = 0.05;
+  c.static_direction_deg = 90.0;  // across the cycles' direction
+  c.csr = 0.05;
+  c.max_cycles = 1;
+  c.post_strain = 0.01;
+  c.post_direction_deg = 0.0;
+  CyclicShearTest test(run.specimen, c, run.log);
+  test.run();
+  const double sigma_v0 = test.outcome().vertical_stress_initial, held = c.static_csr * sigma_v0;
+  const Rows rows(test.history());
+  // Through the cycles the stress across them stays at the static value (the servo holds the
+  // vector sum of both), and along them it swings by the cyclic amplitude.
+  for (std::size_t r : rows.cyclic) {
+    CHECK(rows.at(r, "shear_stress_y") == Approx(held).margin(0.05 * held + 0.02 * c.csr * sigma_v0));
+    CHECK(rows.at(r, "target_y") == Approx(held).epsilon(1e-12));
+  }
+  // The post-cyclic rows: strain-controlled along +x by post_strain from where the cycles ended.
+  std::vector<std::size_t> post;
+  for (std::size_t r = 0; r < test.history().rows().size(); ++r)
+    if (rows.at(r, "phase") == 2.0) post.push_back(r);
+  REQUIRE(!post.empty());
+  const double start_x = rows.at(rows.cyclic.back(), "shear_strain_x"), start_y = rows.at(rows.cyclic.back(), "shear_strain_y");
+  CHECK(rows.at(post.back(), "shear_strain_x") - start_x == Approx(0.01).margin(0.001));
+  CHECK(rows.at(post.back(), "shear_strain_y") == Approx(start_y).margin(1e-12));
 }

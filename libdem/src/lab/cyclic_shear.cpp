@@ -288,13 +288,14 @@ void CyclicShearTest::run() {
   if (config_.post_strain > 0) {
     current_phase_ = CyclicPhase::Post;
     start_phase(CyclicPhase::Post);
-    const FacetWall& top = w.wall(drive_->top);
-    const FacetWall& bottom = w.wall(drive_->bottom);
-    const Vec3 start = horizontal(bottom.displacement - top.displacement);
-    const double every = specimen_.config().output_every_strain;
-    const auto steps = std::max<std::int64_t>(1, std::llround(every / (shear_rate_ * w.time_step())));
-    while ((horizontal(bottom.displacement - top.displacement) - start).norm() / drive_->height < config_.post_strain * (1 - 1e-12)) {
+    // The bottom plate moves shear_rate x H_c x dt a step: the strain is a whole number of steps,
+    // in rows of output.every_strain.
+    const double per_step = shear_rate_ * w.time_step();
+    const auto every = std::max<std::int64_t>(1, std::llround(specimen_.config().output_every_strain / per_step));
+    for (std::int64_t left = std::max<std::int64_t>(1, std::llround(config_.post_strain / per_step)); left > 0;) {
+      const std::int64_t steps = std::min(every, left);
       w.step(steps);
+      left -= steps;
       record_row();
       write_outputs();
       specimen_.require_no_escape();
