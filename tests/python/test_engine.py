@@ -127,3 +127,24 @@ def test_each_law_is_set_as_given():
     assert world.contact_law(libdem.ContactKind.BALL_BALL) == "rolling-linear"
     assert world.contact_law(libdem.ContactKind.BALL_FACET) == "linear"
     assert world.contact_law(libdem.ContactKind.BALL_PEBBLE) == ""
+
+
+def test_servo_plate_on_a_ball_and_a_ring_stack():
+    world = libdem.World()
+    law = libdem.LinearParams.constant(1e5, 1e5, 0.3)
+    world.set_contact_model(libdem.ContactKind.BALL_FACET, law)
+    world.set_contact_model(libdem.ContactKind.BALL_BALL, law)
+    world.set_contact_model(libdem.ContactKind.BALL_PEBBLE, law)
+    world.add_ball([0, 0, 1e-3], 1e-3, 2650.0, fixed=libdem.DOF_ALL)
+    world.add_wall("bottom", libdem.make_disc([0, 0, 0], 5e-3, [0, 0, -1]), [0, 0, -1])
+    top = world.add_wall("top", libdem.make_disc([0, 0, 2.2e-3], 5e-3, [0, 0, 1]), [0, 0, 1], area=1e-4)
+    servo = world.add_servo_wall(top.id, libdem.ServoSettings(target_stress=1e3, max_speed=0.01, settle_steps=200))
+    assert world.run_until(lambda w: servo.settled, 100, 200000)
+    # 1 kPa over 1e-4 m^2 is 0.1 N on the ball: an overlap of 0.1 / 1e5 m.
+    assert top.normal_stress == pytest.approx(1e3, rel=0.01)
+    assert 2.2e-3 + top.displacement[2] - 2e-3 == pytest.approx(-0.1 / 1e5, rel=0.02)
+    spec = libdem.RingStackSpec()
+    spec.inner_radius, spec.height, spec.ring_height, spec.pebble_radius = 5e-3, 4e-3, 1e-3, 0.5e-3
+    rings = world.add_ring_stack(spec)
+    assert len(rings) == 4  # 4 mm covered by rings 1 mm tall
+    assert np.count_nonzero(world.clump_of >= 0) > 0
