@@ -51,11 +51,35 @@ std::string file_hash(const fs::path& file) {
   return out.str();
 }
 
-const std::vector<std::string> trial_columns = {
-    "trial", "stage", "effective_modulus", "friction", "rolling_friction", "shear_stress_rd_max_percent",
-    "shear_stress_rd_mean_percent", "volumetric_strain_rd_max_percent", "volumetric_strain_rd_mean_percent",
-    "shear_stress_points_used", "shear_stress_points_skipped", "volumetric_strain_points_used",
-    "volumetric_strain_points_skipped", "model_initial_slope_Pa", "model_peak_shear_stress_Pa", "model_late_dilatancy", "seconds"};
+// The columns of trials.csv, each declared once with the field it holds: the writer prints them in
+// this order, the reader finds each by its name.
+struct TrialColumn {
+  const char* name;
+  double (*get)(const TrialResult&);
+  void (*set)(TrialResult&, double);
+};
+#define DEM_TRIAL_COLUMN(name, field, type) \
+  TrialColumn{name, [](const TrialResult& t) { return static_cast<double>(t.field); }, [](TrialResult& t, double v) { t.field = static_cast<type>(v); }}
+const TrialColumn trial_columns[] = {
+    DEM_TRIAL_COLUMN("trial", trial, int),
+    DEM_TRIAL_COLUMN("stage", stage, int),
+    DEM_TRIAL_COLUMN("effective_modulus", fit.effective_modulus, double),
+    DEM_TRIAL_COLUMN("friction", fit.friction, double),
+    DEM_TRIAL_COLUMN("rolling_friction", fit.rolling_friction, double),
+    DEM_TRIAL_COLUMN("shear_stress_rd_max_percent", stress_rd_max, double),
+    DEM_TRIAL_COLUMN("shear_stress_rd_mean_percent", stress_rd_mean, double),
+    DEM_TRIAL_COLUMN("volumetric_strain_rd_max_percent", volumetric_rd_max, double),
+    DEM_TRIAL_COLUMN("volumetric_strain_rd_mean_percent", volumetric_rd_mean, double),
+    DEM_TRIAL_COLUMN("shear_stress_points_used", stress_points_used, double),
+    DEM_TRIAL_COLUMN("shear_stress_points_skipped", stress_points_skipped, double),
+    DEM_TRIAL_COLUMN("volumetric_strain_points_used", volumetric_points_used, double),
+    DEM_TRIAL_COLUMN("volumetric_strain_points_skipped", volumetric_points_skipped, double),
+    DEM_TRIAL_COLUMN("model_initial_slope_Pa", model_slope, double),
+    DEM_TRIAL_COLUMN("model_peak_shear_stress_Pa", model_peak, double),
+    DEM_TRIAL_COLUMN("model_late_dilatancy", model_dilatancy, double),
+    DEM_TRIAL_COLUMN("seconds", seconds, double),
+};
+#undef DEM_TRIAL_COLUMN
 
 const char* const stage_names[] = {"outside the searches", "1 (E*, initial slope)", "2 (mu, peak)", "3 (mu_r, peak or dilatancy)",
                                    "4 (mu and mu_r, whole curve)"};
@@ -265,28 +289,27 @@ std::string Calibration::setup_text() const {
 void Calibration::load_trials() {
   const fs::path file = out_dir_ / "trials.csv";
   const io::CsvData data = io::read_csv(file);
-  require(data.columns == trial_columns, file.string() + " columns", data.columns.size(), "the columns dem-calibrate writes");
+  std::vector<std::size_t> index;
+  for (const TrialColumn& c : trial_columns) index.push_back(data.column(c.name));  // InputError names a missing one
+  require(data.columns.size() == index.size(), file.string() + " columns", data.columns.size(),
+          std::to_string(index.size()) + ", the columns dem-calibrate writes (no others)");
   for (const auto& row : data.rows) {
     TrialResult t;
-    t.trial = static_cast<int>(row[0]);
-    t.stage = static_cast<int>(row[1]);
-    t.fit = {row[2], row[3], row[4]};
-    t.stress_rd_max = row[5], t.stress_rd_mean = row[6], t.volumetric_rd_max = row[7], t.volumetric_rd_mean = row[8];
-    t.stress_points_used = row[9], t.stress_points_skipped = row[10];
-    t.volumetric_points_used = row[11], t.volumetric_points_skipped = row[12];
-    t.model_slope = row[13], t.model_peak = row[14], t.model_dilatancy = row[15], t.seconds = row[16];
+    for (std::size_t k = 0; k < index.size(); ++k) trial_columns[k].set(t, row[index[k]]);
     trials_.push_back(t);
   }
   std::sort(trials_.begin(), trials_.end(), [](const TrialResult& a, const TrialResult& b) { return a.trial < b.trial; });
 }
 
 void Calibration::save_trials() const {
-  io::CsvTable table(trial_columns);
-  for (const TrialResult& t : trials_)
-    table.add_row({static_cast<double>(t.trial), static_cast<double>(t.stage), t.fit.effective_modulus, t.fit.friction,
-                   t.fit.rolling_friction, t.stress_rd_max, t.stress_rd_mean, t.volumetric_rd_max, t.volumetric_rd_mean,
-                   t.stress_points_used, t.stress_points_skipped, t.volumetric_points_used, t.volumetric_points_skipped,
-                   t.model_slope, t.model_peak, t.model_dilatancy, t.seconds});
+  std::vector<std::string> names;
+  for (const TrialColumn& c : trial_columns) names.push_back(c.name);
+  io::CsvTable table(names);
+  for (const TrialResult& t : trials_) {
+    std::vector<double> row;
+    for (const TrialColumn& c : trial_columns) row.push_back(c.get(t));
+    table.add_row(row);
+  }
   table.save(out_dir_ / "trials.csv");
 }
 
