@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
   try {
     const auto cli = dem::cli::parse_cyclic_command_line(argc, argv, std::cout);
     if (!cli) return 0;
+    dem::lab::check_cyclic_inputs(cli->cyclic);  // before minutes of generation
     dem::lab::SimpleShearTest specimen(cli->specimen, cli->out_dir, std::cout);
     specimen.record_configuration(*cli->configuration);
     if (!cli->from.empty()) specimen.load_restart(cli->from);

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include <dem/core/errors.hpp>
 #include <dem/io/csv.hpp>
 #include <dem/lab/cyclic_shear.hpp>
 
@@ -199,4 +200,27 @@ TEST_CASE("cyclic shear: a static shear stress is held under the cycles, and the
   const double start_x = rows.at(rows.cyclic.back(), "shear_strain_x"), start_y = rows.at(rows.cyclic.back(), "shear_strain_y");
   CHECK(rows.at(post.back(), "shear_strain_x") - start_x == Approx(0.01).margin(0.001));
   CHECK(rows.at(post.back(), "shear_strain_y") == Approx(start_y).margin(1e-12));
+}
+
+TEST_CASE("cyclic shear: a strain series from CSV is followed and ends the stage at its last row", "[cyclic][integration]") {
+  Run run("cyclic_series");
+  CyclicShearConfig c;
+  c.control = CyclicControl::Strain;
+  c.path = CyclicShape::Series;
+  c.series_file = run.dir.write("path.csv", "cycle,x,y\n0,0,0\n0.5,0.002,0\n1.5,0.002,0.003\n").string();
+  c.max_cycles = 10;
+  check_cyclic_inputs(c);
+  CyclicShearTest test(run.specimen, c, run.log);
+  test.run();
+  CHECK(test.outcome().stop == "series end");
+  CHECK(test.outcome().cycles == 1.5);
+  const Rows rows(test.history());
+  for (std::size_t r : rows.cyclic) {
+    const double n = rows.at(r, "cycles");
+    const double x = n <= 0.5 ? 0.004 * n : 0.002, y = n <= 0.5 ? 0.0 : 0.003 * (n - 0.5);
+    CHECK(rows.at(r, "shear_strain_x") == Approx(x).margin(1e-12));
+    CHECK(rows.at(r, "shear_strain_y") == Approx(y).margin(1e-12));
+  }
+  c.series_file = (run.dir.path / "missing.csv").string();
+  CHECK_THROWS_AS(check_cyclic_inputs(c), InputError);
 }

@@ -82,6 +82,10 @@ struct CyclicShearTest::Drive {
   }
 };
 
+void check_cyclic_inputs(const CyclicShearConfig& config) {
+  if (config.path == CyclicShape::Series) (void)CyclicPath::from_csv(config.series_file, 1.0);
+}
+
 std::vector<std::string> CyclicShearTest::history_columns() {
   return {"time", "step", "phase", "cycles", "shear_strain_x", "shear_strain_y", "shear_strain", "shear_stress_x",
           "shear_stress_y", "shear_stress", "target_x", "target_y", "vertical_stress", "vertical_stress_bottom",

@@ -62,6 +62,10 @@ struct CyclicOutcome {
   double wall_seconds = 0.0;             // s
 };
 
+/// Reads what the configuration names outside itself (the series file), so that a program can
+/// refuse bad input before it makes a specimen: InputError naming the file and the problem.
+void check_cyclic_inputs(const CyclicShearConfig& config);
+
 class CyclicShearTest {
  public:
   /// `specimen` must be consolidated (Consolidated stage) and outlive this test. Validates the
