@@ -81,7 +81,7 @@ struct CyclicShear {
   io::Config config;  // the specimen's keys and the [cyclic] ones, for summary.json
   std::ostringstream quiet_log;
   std::unique_ptr<lab::CyclicShearTest> test;
-  CyclicShear(SimpleShear& specimen, const py::dict& values, bool quiet) : config(schema()) {
+  CyclicShear(SimpleShear& specimen, const py::dict& values, bool quiet) : config(lab::cyclic_shear_schema()) {
     const io::Schema specimen_keys = lab::simple_shear_schema();
     for (const io::KeySpec& k : specimen_keys.keys()) config.set(k.key, specimen.config.exact_text(k.key));
     py::dict cyclic;
@@ -92,11 +92,6 @@ struct CyclicShear {
     apply(config, cyclic, "");
     test = std::make_unique<lab::CyclicShearTest>(*specimen.test, lab::cyclic_shear_config(config),
                                                   quiet ? static_cast<std::ostream&>(quiet_log) : std::cout);
-  }
-  static io::Schema schema() {
-    io::Schema s = lab::simple_shear_schema();
-    lab::add_cyclic_shear_keys(s);
-    return s;
   }
 };
 

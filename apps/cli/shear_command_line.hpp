@@ -22,9 +22,12 @@ struct ShearCommandLine {
   std::optional<io::Config> configuration;  // resolved, for SimpleShearTest::record_configuration
 };
 
-/// Parses argv. Returns nullopt when the program should stop successfully (--help or
-/// --print-config, whose text goes to `out`).
+/// Parses argv against `schema` (the simple-shear keys, or those and a protocol's own). Returns
+/// nullopt when the program should stop successfully (--help or --print-config, whose text goes
+/// to `out`).
 std::optional<ShearCommandLine> parse_shear_command_line(int argc, char** argv, const std::string& program,
-                                                         const std::string& purpose, std::ostream& out);
+                                                         const std::string& purpose, std::ostream& out,
+                                                         const io::Schema& schema = lab::simple_shear_schema(),
+                                                         const std::string& default_out = "runs/simple-shear");
 
 }  // namespace dem::cli

@@ -14,18 +14,19 @@ int main(int argc, char** argv) {
     const auto cli = dem::cli::parse_cyclic_command_line(argc, argv, std::cout);
     if (!cli) return 0;
     dem::lab::check_cyclic_inputs(cli->cyclic);  // before minutes of generation
-    dem::lab::SimpleShearTest specimen(cli->specimen, cli->out_dir, std::cout);
-    specimen.record_configuration(*cli->configuration);
-    if (!cli->from.empty()) specimen.load_restart(cli->from);
-    specimen.open_outputs({.replace = cli->replace, .program = "dem-cyclic-shear",
+    const dem::cli::ShearCommandLine& run = cli->specimen;
+    dem::lab::SimpleShearTest specimen(run.config, run.out_dir, std::cout);
+    specimen.record_configuration(*run.configuration);
+    if (!run.from.empty()) specimen.load_restart(run.from);
+    specimen.open_outputs({.replace = run.replace, .program = "dem-cyclic-shear",
                            .more_run_files = dem::lab::CyclicShearTest::run_files()});
     if (specimen.stage() == dem::lab::ShearStage::Empty) specimen.generate();
     if (specimen.stage() == dem::lab::ShearStage::Generated) specimen.consolidate();
     dem::lab::CyclicShearTest test(specimen, cli->cyclic, std::cout);
     test.run();
-    test.write_summary(cli->resolved_json);
-    std::cout << "results in " << cli->out_dir.string()
-              << "/: cyclic_history.csv, cycles.csv, summary.json (figures: scripts/plot-cyclic " << cli->out_dir.string() << ")\n";
+    test.write_summary(run.resolved_json);
+    std::cout << "results in " << run.out_dir.string()
+              << "/: cyclic_history.csv, cycles.csv, summary.json (figures: scripts/plot-cyclic " << run.out_dir.string() << ")\n";
   } catch (const dem::InputError& e) {
     std::cerr << "dem-cyclic-shear: " << e.what() << "\n";
     return 2;

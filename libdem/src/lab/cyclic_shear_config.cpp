@@ -108,6 +108,12 @@ void add_cyclic_shear_keys(io::Schema& schema) {
   }
 }
 
+io::Schema cyclic_shear_schema() {
+  io::Schema schema = simple_shear_schema();
+  add_cyclic_shear_keys(schema);
+  return schema;
+}
+
 CyclicShearConfig cyclic_shear_config(const io::Config& config) {
   C c;
   for (const Binding& b : bindings()) {

@@ -9,6 +9,7 @@
 
 #include <dem/io/config.hpp>
 #include <dem/lab/cyclic_path.hpp>
+#include <dem/lab/simple_shear_config.hpp>
 
 namespace dem::lab {
 
@@ -47,6 +48,8 @@ struct CyclicShearConfig {
 
 /// The [cyclic] keys, with the defaults of CyclicShearConfig{}.
 void add_cyclic_shear_keys(io::Schema& schema);
+/// The keys of a cyclic test: simple_shear_schema() (the specimen) and the [cyclic] keys.
+io::Schema cyclic_shear_schema();
 /// The typed configuration from validated values of a schema holding the [cyclic] keys.
 /// InputError naming the key for a series path without a file.
 CyclicShearConfig cyclic_shear_config(const io::Config& config);
