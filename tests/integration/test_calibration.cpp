@@ -198,7 +198,7 @@ namespace {
 fs::path make_lab_curve(const io::Config& start, const ContactFit& truth, double strain, const fs::path& dir) {
   std::ostringstream log;
   SimpleShearConfig config = simple_shear_config(start);
-  config.output_every_strain = strain / 100;
+  config.output.every_strain = strain / 100;
   ShearTrials trials(config, dir / "maker", {}, true, log);
   trials.prepare({truth.effective_modulus}, 1, 1);
   const ModelCurve curve = trials.shear(truth, strain, 1, 1);

@@ -33,7 +33,7 @@ io::Config reduced_specimen() {
 std::vector<double> ring_fractions(const SimpleShearTest& test) {
   const World& w = test.world();
   const double z_bottom = w.walls()[0].displacement.z();
-  const double z_top = test.config().height + w.walls()[1].displacement.z();
+  const double z_top = test.config().specimen.height + w.walls()[1].displacement.z();
   std::vector<double> s;
   for (const Clump& ring : w.clumps()) s.push_back((ring.x.z() - z_bottom) / (z_top - z_bottom));
   return s;

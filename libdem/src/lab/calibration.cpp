@@ -227,7 +227,7 @@ Calibration::Calibration(io::Config config, CalibrationSettings settings, LabCur
   SimpleShearConfig shear = simple_shear_config(config_);
   target_strain_ = lab_.max_strain() * 1.001;  // the last lab point lies inside the model curve
   // History rows of a trial: at least 50 over the lab's strain range.
-  shear.output_every_strain = std::min(shear.output_every_strain, lab_.max_strain() / 50.0);
+  shear.output.every_strain = std::min(shear.output.every_strain, lab_.max_strain() / 50.0);
 
   // Locked against a second calibration into the same folder; its own results are resumed below.
   io::OutputFolderPolicy policy;

@@ -73,10 +73,13 @@ ShearTrials::ShearTrials(SimpleShearConfig base, fs::path out_dir, fs::path from
                          ModulusSpecimen rule)
     : base_(std::move(base)), out_dir_(std::move(out_dir)), log_(log), rule_(rule) {
   // Trials need neither roses nor snapshots nor periodic restarts: only the history.
-  base_.fabric_strains.clear();
-  base_.snapshot_strains.clear();
-  base_.restart_every_steps = std::numeric_limits<long>::max() / 4;
-  base_.progress_seconds = 60.0;
+  base_.output.fabric_strains.clear();
+  base_.output.snapshot_strains.clear();
+  base_.output.restart_every_steps = std::numeric_limits<long>::max() / 4;
+  base_.output.progress_seconds = 60.0;
+  // Every trial's specimen is made with the starting generation friction, not the trial's.
+  base_.generation.friction = base_.generation_friction();
+  base_.generation.rolling_friction = base_.generation_rolling_friction();
   fs::create_directories(out_dir_ / "specimen");
   generated_files_ = out_dir_ / "specimen" / "generated";
   generated_restart_ = generated_files_ / "generated.restart";
@@ -120,7 +123,7 @@ SimpleShearConfig ShearTrials::config_for(const ContactFit& fit, int threads) co
   c.ball_ball.effective_modulus = fit.effective_modulus;
   c.ball_ball.friction = fit.friction;
   c.ball_ball.rolling_friction = fit.rolling_friction;
-  c.threads = std::max(1, threads);
+  c.engine.threads = std::max(1, threads);
   return c;
 }
 
@@ -213,7 +216,8 @@ ModelCurve ShearTrials::shear(const ContactFit& fit, double strain, int number, 
   const fs::path dir = trial_dir(number);
   fs::remove_all(dir);
   SimpleShearConfig c = config_for(fit, threads);
-  c.legs = {{base_.legs.front().direction_deg, strain}};
+  c.shear.directions_deg = {base_.shear.legs().front().direction_deg};
+  c.shear.leg_strains = {strain};
   {
     fs::create_directories(dir);
     std::ofstream log(dir / "log.txt");

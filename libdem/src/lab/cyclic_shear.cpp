@@ -236,7 +236,7 @@ void CyclicShearTest::run() {
   if (!specimen_.outputs_open()) specimen_.open_outputs({.more_run_files = run_files()});
   outcome_.vertical_stress_initial = specimen_.measure().vertical_stress;
   const double sigma_v0 = outcome_.vertical_stress_initial;
-  servo->set_target(specimen_.config().vertical_stress);
+  servo->set_target(specimen_.config().consolidation.vertical_stress);
   servo->hold_position(config_.drainage == CyclicDrainage::ConstantVolume);
   static_stress_ = config_.static_csr * sigma_v0 * direction(config_.static_direction_deg);
   log_ << "cyclic shear: " << (config_.control == CyclicControl::Stress ? "stress" : "strain") << "-controlled "
@@ -295,7 +295,7 @@ void CyclicShearTest::run() {
     // The bottom plate moves shear_rate x H_c x dt a step: the strain is a whole number of steps,
     // in rows of output.every_strain.
     const double per_step = shear_rate_ * w.time_step();
-    const auto every = std::max<std::int64_t>(1, std::llround(specimen_.config().output_every_strain / per_step));
+    const auto every = std::max<std::int64_t>(1, std::llround(specimen_.config().output.every_strain / per_step));
     for (std::int64_t left = std::max<std::int64_t>(1, std::llround(config_.post_strain / per_step)); left > 0;) {
       const std::int64_t steps = std::min(every, left);
       w.step(steps);
@@ -318,7 +318,7 @@ void CyclicShearTest::run() {
 
 void CyclicShearTest::progress(double cycles) const {
   const double now = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-  if (now - last_progress_ < specimen_.config().progress_seconds) return;
+  if (now - last_progress_ < specimen_.config().output.progress_seconds) return;
   last_progress_ = now;
   log_ << "[cyclic] N " << cycles << " of " << config_.max_cycles << ", tau " << last_sample_.stress.norm() / 1e3 << " kPa, sigma_v "
        << last_sample_.vertical_stress / 1e3 << " kPa, r_u " << last_sample_.pore_pressure_ratio << ", double-amplitude strain "

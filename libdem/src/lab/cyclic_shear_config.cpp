@@ -1,54 +1,24 @@
 #include <dem/lab/cyclic_shear_config.hpp>
 
-#include <cmath>
-#include <cstdio>
-#include <functional>
-#include <optional>
 #include <string>
-#include <variant>
 
 #include <dem/core/errors.hpp>
+#include <dem/io/config_binding.hpp>
 
 namespace dem::lab {
 
 namespace {
 
 using C = CyclicShearConfig;
+using io::enum_choice;
 
-// A text key for an enum field: its choices and the conversions.
-struct Choice {
-  std::vector<std::string> choices;
-  std::function<std::string(const C&)> get;
-  std::function<void(C&, const std::string&)> set;
-};
-
-using Member = std::variant<double C::*, long C::*, std::string C::*, std::vector<double> C::*, Choice>;
-
-struct Binding {
-  std::string name;  // the key is "cyclic." + name, the field's name
-  Member member;
-  std::string unit;
-  std::string help;
-  std::optional<double> min{}, max{};
-  bool min_exclusive = false;
-};
-
-template <class E>
-Choice choice(std::vector<std::string> names, E C::*field) {
-  return {names, [names, field](const C& c) { return names[static_cast<std::size_t>(c.*field)]; },
-          [names, field](C& c, const std::string& v) {
-            for (std::size_t k = 0; k < names.size(); ++k)
-              if (names[k] == v) c.*field = static_cast<E>(k);
-          }};
-}
-
-const std::vector<Binding>& bindings() {
-  static const std::vector<Binding> table = {
-      {"control", choice({"stress", "strain"}, &C::control), "-",
+const io::BindingTable<C>& bindings() {
+  static const io::BindingTable<C> table = {
+      {"control", enum_choice({"stress", "strain"}, &C::control), "-",
        "stress: the path is the top plate's shear stress (servo on its horizontal force); strain: the shear strain (bottom plate displacement)"},
-      {"path", choice({"sine", "circle", "ellipse", "figure8", "series"}, &C::path), "-",
+      {"path", enum_choice({"sine", "circle", "ellipse", "figure8", "series"}, &C::path), "-",
        "shape in the horizontal plane: sine (one-directional), circle, ellipse, figure8, series (cyclic.series_file)"},
-      {"drainage", choice({"constant-volume", "drained"}, &C::drainage), "-",
+      {"drainage", enum_choice({"constant-volume", "drained"}, &C::drainage), "-",
        "constant-volume: height held, r_u = (sigma_v0 - sigma_v) / sigma_v0; drained: vertical stress held by the servo"},
       {"direction_deg", &C::direction_deg, "deg", "direction of the sine, the ellipse's major axis, the figure-8's long axis, from +x towards +y", -360.0, 360.0},
       {"csr", &C::csr, "-", "cyclic stress ratio: shear stress amplitude / sigma'_v0 (control = stress)", 0.0, 2.0, true},
@@ -72,41 +42,9 @@ const std::vector<Binding>& bindings() {
   return table;
 }
 
-std::string number_text(double v) {
-  char text[32];
-  for (int digits = 6; digits <= 17; ++digits) {  // the shortest text that reads back exactly
-    std::snprintf(text, sizeof text, "%.*g", digits, v);
-    if (std::stod(text) == v) break;
-  }
-  return text;
-}
-
-std::string list_text(const std::vector<double>& values) {
-  std::string out;
-  for (double v : values) out += (out.empty() ? "" : ",") + number_text(v);
-  return out;
-}
-
 }  // namespace
 
-void add_cyclic_shear_keys(io::Schema& schema) {
-  const C defaults;
-  for (const Binding& b : bindings()) {
-    io::KeySpec spec{.key = "cyclic." + b.name, .unit = b.unit, .help = b.help, .min = b.min, .max = b.max,
-                     .min_exclusive = b.min_exclusive};
-    std::visit(
-        [&](const auto& m) {
-          using M = std::decay_t<decltype(m)>;
-          if constexpr (std::is_same_v<M, double C::*>) spec.type = io::ValueType::Real, spec.default_value = number_text(defaults.*m);
-          else if constexpr (std::is_same_v<M, long C::*>) spec.type = io::ValueType::Integer, spec.default_value = std::to_string(defaults.*m);
-          else if constexpr (std::is_same_v<M, std::string C::*>) spec.type = io::ValueType::Text, spec.default_value = defaults.*m;
-          else if constexpr (std::is_same_v<M, std::vector<double> C::*>) spec.type = io::ValueType::RealList, spec.default_value = list_text(defaults.*m);
-          else spec.type = io::ValueType::Text, spec.default_value = m.get(defaults), spec.choices = m.choices;
-        },
-        b.member);
-    schema.add(spec);
-  }
-}
+void add_cyclic_shear_keys(io::Schema& schema) { io::add_keys(schema, "cyclic", bindings(), C{}); }
 
 io::Schema cyclic_shear_schema() {
   io::Schema schema = simple_shear_schema();
@@ -116,19 +54,7 @@ io::Schema cyclic_shear_schema() {
 
 CyclicShearConfig cyclic_shear_config(const io::Config& config) {
   C c;
-  for (const Binding& b : bindings()) {
-    const std::string key = "cyclic." + b.name;
-    std::visit(
-        [&](const auto& m) {
-          using M = std::decay_t<decltype(m)>;
-          if constexpr (std::is_same_v<M, double C::*>) c.*m = config.real(key);
-          else if constexpr (std::is_same_v<M, long C::*>) c.*m = config.integer(key);
-          else if constexpr (std::is_same_v<M, std::string C::*>) c.*m = config.text(key);
-          else if constexpr (std::is_same_v<M, std::vector<double> C::*>) c.*m = config.real_list(key);
-          else m.set(c, config.text(key));
-        },
-        b.member);
-  }
+  io::read_keys(config, "cyclic", bindings(), c);
   require(c.path != CyclicShape::Series || !c.series_file.empty(), "cyclic.series_file", "(empty)",
           "a CSV file when cyclic.path = series");
   require(c.path == CyclicShape::Series || c.series_file.empty(), "cyclic.series_file", c.series_file,

@@ -64,27 +64,28 @@ std::vector<ParticleId> ball_ids(const ParticleStore& p) {
 
 SimpleShearTest::SimpleShearTest(SimpleShearConfig config, std::filesystem::path out_dir, std::ostream& log)
     : config_(std::move(config)), out_dir_(std::move(out_dir)), log_(log), history_(std::vector<std::string>{"time"}) {
-  config_.grading.validate("grading");
-  require(config_.total_strain() > 0.0, "shear strain", config_.total_strain(), "> 0");
+  config_.validate();
+  legs_ = config_.shear.legs();
+  require(config_.shear.total_strain() > 0.0, "shear strain", config_.shear.total_strain(), "> 0");
   fabric_ = std::make_unique<FabricLog>(out_dir_ / "fabric.csv");
   snapshots_ = std::make_unique<SnapshotWriter>(out_dir_ / "snapshots");
   build_world();
-  history_ = io::CsvTable(history_columns(world_->clumps().size(), config_.profile_bins), io::Missing::Allowed);
+  history_ = io::CsvTable(history_columns(world_->clumps().size(), config_.measure.profile_bins), io::Missing::Allowed);
 }
 
 SimpleShearTest::~SimpleShearTest() = default;
 
 void SimpleShearTest::build_world() {
   WorldSettings s;
-  s.local_damping = config_.local_damping;
-  s.time_step = config_.time_step;
-  s.time_step_safety = config_.time_step_safety;
-  s.max_overlap_ratio = config_.max_overlap_ratio;
-  s.threads = config_.threads;
+  s.local_damping = config_.engine.local_damping;
+  s.time_step = config_.engine.time_step;
+  s.time_step_safety = config_.engine.time_step_safety;
+  s.max_overlap_ratio = config_.engine.max_overlap_ratio;
+  s.threads = config_.engine.threads;
   world_ = std::make_unique<World>(s);
-  const double radius = config_.diameter / 2, height = config_.height;
+  const double radius = config_.specimen.diameter / 2, height = config_.specimen.height;
   area_ = pi * radius * radius;
-  const double pebble_d = config_.pebble_diameter > 0 ? config_.pebble_diameter : config_.grading.smallest();
+  const double pebble_d = config_.rings.pebble_diameter > 0 ? config_.rings.pebble_diameter : config_.grading.smallest();
 
   // Plates: discs reaching under the rings, loaded over the specimen's cross-section.
   const double plate_radius = radius + 2.0 * pebble_d;
@@ -95,12 +96,12 @@ void SimpleShearTest::build_world() {
   RingStackSpec rings;
   rings.inner_radius = radius;
   // Fixed rings cannot follow a dilating specimen: their stack is built with room above it.
-  rings.height = config_.ring_stack_height > 0 ? config_.ring_stack_height
-                 : config_.ring_vertical == RingVertical::Fixed ? 1.1 * height : height;
+  rings.height = config_.rings.stack_height > 0 ? config_.rings.stack_height
+                 : config_.rings.vertical == RingVertical::Fixed ? 1.1 * height : height;
   rings.ring_height = pebble_d;
   rings.pebble_radius = pebble_d / 2;
-  rings.gap = config_.ring_gap > 0 ? config_.ring_gap : 0.05 * pebble_d;
-  rings.ring_density = config_.ring_density;
+  rings.gap = config_.rings.gap > 0 ? config_.rings.gap : 0.05 * pebble_d;
+  rings.ring_density = config_.rings.density;
   rings.max_opening = config_.grading.smallest();
   rings.fixed = dof_all;  // held while the specimen is generated; released afterwards
   pebble_radius_ = rings.pebble_radius;
@@ -126,7 +127,7 @@ void SimpleShearTest::set_contact_models(double friction, double rolling_frictio
 }
 
 double SimpleShearTest::plate_gap() const {
-  return (config_.height + world_->wall(top_).displacement.z()) - world_->wall(bottom_).displacement.z();
+  return (config_.specimen.height + world_->wall(top_).displacement.z()) - world_->wall(bottom_).displacement.z();
 }
 
 void SimpleShearTest::control(World& w) {
@@ -136,7 +137,7 @@ void SimpleShearTest::control(World& w) {
     // height: a plate that chased the stress into the loose half-size balls would pack them at
     // the bottom of the cavity.
     FacetWall& top = w.wall(top_);
-    const double room = plate_gap() - config_.height;  // m, >= 0
+    const double room = plate_gap() - config_.specimen.height;  // m, >= 0
     top.velocity.z() = std::max(top.velocity.z(), -room / w.time_step());
   }
   move_rings(w);
@@ -146,17 +147,17 @@ void SimpleShearTest::control(World& w) {
 // of the height between the plates: v_k,z = v_b,z + s_k (v_t,z - v_b,z), so z_k - z_b - s_k H is
 // invariant under the step (both move by v dt). Prescribed rings also interpolate horizontally.
 void SimpleShearTest::move_rings(World& w) const {
-  if (config_.ring_vertical == RingVertical::Fixed) return;
+  if (config_.rings.vertical == RingVertical::Fixed) return;
   // Free rings follow the plates only while the specimen is made; then the sand carries them.
-  if (config_.ring_vertical == RingVertical::Free && stage_ >= ShearStage::Generated) return;
+  if (config_.rings.vertical == RingVertical::Free && stage_ >= ShearStage::Generated) return;
   const FacetWall& top = w.wall(top_);
   const FacetWall& bottom = w.wall(bottom_);
   const double z_bottom = bottom.displacement.z(), gap = plate_gap();
-  const bool prescribed = config_.ring_vertical == RingVertical::Prescribed && stage_ >= ShearStage::Generated;
+  const bool prescribed = config_.rings.vertical == RingVertical::Prescribed && stage_ >= ShearStage::Generated;
   // Sand rings: the mean vertical velocity of the balls touching each ring (the interpolation
   // while the specimen is made, or for a ring that touches none).
   std::vector<double> sand_vz, touching;
-  if (config_.ring_vertical == RingVertical::Sand && stage_ >= ShearStage::Generated) {
+  if (config_.rings.vertical == RingVertical::Sand && stage_ >= ShearStage::Generated) {
     sand_vz.assign(w.clumps().size(), 0.0);
     touching.assign(w.clumps().size(), 0.0);
     const PairContacts& pebbles = w.pair_contacts(ContactKind::BallPebble);
@@ -178,27 +179,27 @@ void SimpleShearTest::move_rings(World& w) const {
 }
 
 void SimpleShearTest::release_rings() {
-  const std::uint8_t fixed = config_.ring_vertical == RingVertical::Prescribed ? dof_all
-                             : config_.ring_vertical == RingVertical::Free     ? dof_rotation
+  const std::uint8_t fixed = config_.rings.vertical == RingVertical::Prescribed ? dof_all
+                             : config_.rings.vertical == RingVertical::Free     ? dof_rotation
                                                                                : dof_z | dof_rotation;
   for (Clump& ring : world_->clumps()) {
     ring.fixed = fixed;
-    if (config_.ring_vertical == RingVertical::Fixed) ring.v.z() = 0.0;
+    if (config_.rings.vertical == RingVertical::Fixed) ring.v.z() = 0.0;
   }
 }
 
 std::vector<double> SimpleShearTest::target_diameters(std::mt19937_64& rng) const {
-  const double radius = config_.diameter / 2;
-  return sample_diameters(config_.grading, (1.0 - config_.porosity) * pi * radius * radius * config_.height, rng);
+  const double radius = config_.specimen.diameter / 2;
+  return sample_diameters(config_.grading, (1.0 - config_.specimen.porosity) * pi * radius * radius * config_.specimen.height, rng);
 }
 
 void SimpleShearTest::generate() {
   require(stage_ == ShearStage::Empty, "generate() stage", static_cast<int>(stage_), "0 (empty world)");
   open_outputs_if_needed();
   const auto t0 = std::chrono::steady_clock::now();
-  const double radius = config_.diameter / 2, height = config_.height;
+  const double radius = config_.specimen.diameter / 2, height = config_.specimen.height;
   const double cavity = pi * radius * radius * height;
-  std::mt19937_64 rng(config_.seed);  // the diameters, then the positions
+  std::mt19937_64 rng(config_.specimen.seed);  // the diameters, then the positions
   const std::vector<double> diameters = target_diameters(rng);
   double solid = 0.0;
   for (double d : diameters) solid += pi / 6 * d * d * d;
@@ -215,11 +216,11 @@ void SimpleShearTest::generate() {
     // Expansion to full size in stages, with the generation friction on the ball-ball contacts
     // (plates and rings frictionless), cycling towards equilibrium in between. With the servo
     // plate the specimen grows against a low stress instead of a closed cavity.
-    set_contact_models(config_.generation_friction, config_.generation_rolling_friction, true);
-    if (config_.generation_servo) {
+    set_contact_models(config_.generation_friction(), config_.generation_rolling_friction(), true);
+    if ((config_.generation.plate == GenerationPlate::Servo)) {
       ServoSettings servo = servo_settings();
-      servo.target_stress = config_.generation_stress;
-      servo.max_speed = config_.generation_servo_max_speed;
+      servo.target_stress = config_.generation.stress;
+      servo.max_speed = config_.generation.servo_max_speed;
       servo_ = std::make_shared<ServoWall>(top_, servo);
       generation_floor_ = true;
     }
@@ -227,7 +228,7 @@ void SimpleShearTest::generate() {
     generation_ = {};
   }
   expand_radii(diameters);
-  if (config_.generation_servo) friction_schedule();
+  if ((config_.generation.plate == GenerationPlate::Servo)) friction_schedule();
   generating_ = false;
   generation_ = {};  // as a run resumed after the generation has it
   generation_floor_ = false;
@@ -237,7 +238,7 @@ void SimpleShearTest::generate() {
   stage_ = ShearStage::Generated;
   wall_seconds_ += seconds_since(t0);
   log_ << "generation done in " << seconds_since(t0) << " s, " << world_->step_count() << " steps: porosity "
-       << generated_state_.porosity << " (target " << config_.porosity << "), coordination "
+       << generated_state_.porosity << " (target " << config_.specimen.porosity << "), coordination "
        << generated_state_.coordination_number << ", K0 " << generated_state_.k0 << ", vertical stress "
        << generated_state_.vertical_stress / 1e3 << " kPa, height " << generated_state_.height * 1e3 << " mm\n";
   require_no_escape();
@@ -245,7 +246,7 @@ void SimpleShearTest::generate() {
 
 void SimpleShearTest::place_half_size_balls(const std::vector<double>& diameters, std::mt19937_64& rng) {
   // Half-size balls at random, without overlap (solid fraction (1 - n)/8 ~ 0.08: few rejections).
-  const double radius = config_.diameter / 2, height = config_.height;
+  const double radius = config_.specimen.diameter / 2, height = config_.specimen.height;
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const double cell = config_.grading.largest() / 2;
   std::unordered_map<std::int64_t, std::vector<std::size_t>> cells;
@@ -282,7 +283,7 @@ void SimpleShearTest::place_half_size_balls(const std::vector<double>& diameters
     BallSpec b;
     b.position = placed[n];
     b.radius = placed_r[n];
-    b.density = config_.density;
+    b.density = config_.specimen.density;
     world_->add_ball(b);
   }
 }
@@ -300,8 +301,8 @@ void SimpleShearTest::expand_radii(const std::vector<double>& diameters) {
   require(ids.size() == diameters.size(), "generation: balls in the world", ids.size(),
           std::to_string(diameters.size()) + ", one per target diameter");
   GenerationProgress& g = generation_;
-  auto factor = [&] { return 0.5 + 0.5 * ((g.stage - 1) + static_cast<double>(g.increment) / increments) / config_.expansion_stages; };
-  for (; g.phase <= GenerationProgress::Settling && g.stage <= config_.expansion_stages;
+  auto factor = [&] { return 0.5 + 0.5 * ((g.stage - 1) + static_cast<double>(g.increment) / increments) / config_.generation.stages; };
+  for (; g.phase <= GenerationProgress::Settling && g.stage <= config_.generation.stages;
        ++g.stage, g.increment = 0, g.phase = GenerationProgress::Expanding) {
     while (g.phase == GenerationProgress::Expanding && g.increment < increments) {
       ++g.increment;
@@ -313,9 +314,9 @@ void SimpleShearTest::expand_radii(const std::vector<double>& diameters) {
       if (g.increment == increments) g.phase = GenerationProgress::Settling, g.settled_steps = 0;
       maybe_save_restart();
     }
-    settle_generation([&] { return world_->unbalanced_force_ratio() < config_.equilibrium_ratio; });
+    settle_generation([&] { return world_->unbalanced_force_ratio() < config_.generation.equilibrium_ratio; });
     std::ostringstream detail;
-    detail << "stage " << g.stage << "/" << config_.expansion_stages << ", radius x" << factor() << ", unbalanced ratio "
+    detail << "stage " << g.stage << "/" << config_.generation.stages << ", radius x" << factor() << ", unbalanced ratio "
            << world_->unbalanced_force_ratio() << ", top plate " << world_->wall(top_).normal_stress() / 1e3
            << " kPa, porosity " << specimen_state().porosity;
     log_ << "[generation] " << detail.str() << std::endl;
@@ -326,7 +327,7 @@ void SimpleShearTest::expand_radii(const std::vector<double>& diameters) {
 void SimpleShearTest::settle_generation(const std::function<bool()>& done) {
   // Checked after each chunk, before a restart may be written: a resumed settle goes on exactly
   // when the uninterrupted one did.
-  while (generation_.settled_steps < config_.expansion_steps) {
+  while (generation_.settled_steps < config_.generation.steps_per_stage) {
     world_->step(100);
     if (done()) break;
     generation_.settled_steps += 100;
@@ -343,21 +344,21 @@ void SimpleShearTest::friction_schedule() {
   // A few kPa on a loose packing fluctuates by more than the consolidation tolerance, so settled
   // here means in equilibrium with the plate stress within 10 % of its target.
   auto settled = [&] {
-    return world_->unbalanced_force_ratio() < config_.equilibrium_ratio &&
-           std::abs(servo_->achieved_stress() - config_.generation_stress) <= 0.1 * config_.generation_stress;
+    return world_->unbalanced_force_ratio() < config_.generation.equilibrium_ratio &&
+           std::abs(servo_->achieved_stress() - config_.generation.stress) <= 0.1 * config_.generation.stress;
   };
   GenerationProgress& g = generation_;
   if (g.phase == GenerationProgress::FirstSettle) {
     settle_generation(settled);
     g.phase = GenerationProgress::Reducing;
   }
-  const double smallest = 1e-2 * std::max(config_.generation_friction, config_.generation_rolling_friction);
+  const double smallest = 1e-2 * std::max(config_.generation_friction(), config_.generation_rolling_friction());
   while (true) {
     if (g.phase == GenerationProgress::Reducing) {
       double mu = friction_now_, mu_r = rolling_friction_now_;
-      if (!(specimen_state().porosity > config_.porosity + config_.generation_porosity_tolerance && (mu > 0 || mu_r > 0))) break;
-      mu *= config_.generation_friction_reduction;
-      mu_r *= config_.generation_friction_reduction;
+      if (!(specimen_state().porosity > config_.specimen.porosity + config_.generation.porosity_tolerance && (mu > 0 || mu_r > 0))) break;
+      mu *= config_.generation.friction_reduction;
+      mu_r *= config_.generation.friction_reduction;
       if (std::max(mu, mu_r) < smallest) mu = mu_r = 0.0;
       set_contact_models(mu, mu_r, true);
       g.phase = GenerationProgress::ScheduleSettle;
@@ -370,16 +371,16 @@ void SimpleShearTest::friction_schedule() {
   }
   const SpecimenState state = specimen_state();
   const double porosity = state.porosity;
-  if (state.height <= config_.height * (1 + 1e-9) && servo_->achieved_stress() < 0.9 * config_.generation_stress)
-    log_ << "note: the specimen settled onto the top plate's lowest position (specimen.height = " << config_.height
+  if (state.height <= config_.specimen.height * (1 + 1e-9) && servo_->achieved_stress() < 0.9 * config_.generation.stress)
+    log_ << "note: the specimen settled onto the top plate's lowest position (specimen.height = " << config_.specimen.height
          << " m) at porosity " << porosity << ", ball-ball friction " << friction_now_ << ": the plate holds it at "
-         << servo_->achieved_stress() << " Pa, not generation.stress = " << config_.generation_stress
+         << servo_->achieved_stress() << " Pa, not generation.stress = " << config_.generation.stress
          << " Pa: specimen.porosity is looser than the balls settle to at this friction\n";
-  if (porosity > config_.porosity + config_.generation_porosity_tolerance)
+  if (porosity > config_.specimen.porosity + config_.generation.porosity_tolerance)
     log_ << "note: the friction schedule reached zero friction at porosity " << porosity << ", above specimen.porosity = "
-         << config_.porosity << " + " << config_.generation_porosity_tolerance << ": spheres of this grading settle no denser "
-         << "at generation.stress = " << config_.generation_stress << " Pa within generation.steps_per_stage = "
-         << config_.expansion_steps << " steps per schedule step; consolidation densifies the specimen further\n";
+         << config_.specimen.porosity << " + " << config_.generation.porosity_tolerance << ": spheres of this grading settle no denser "
+         << "at generation.stress = " << config_.generation.stress << " Pa within generation.steps_per_stage = "
+         << config_.generation.steps_per_stage << " steps per schedule step; consolidation densifies the specimen further\n";
 }
 
 void SimpleShearTest::consolidate() {
@@ -388,29 +389,29 @@ void SimpleShearTest::consolidate() {
   const auto t0 = std::chrono::steady_clock::now();
   if (!consolidating_) {
     if (!servo_) servo_ = std::make_shared<ServoWall>(top_, servo_settings());
-    servo_->set_target(config_.vertical_stress);
-    servo_->set_max_speed(config_.servo_max_speed);
+    servo_->set_target(config_.consolidation.vertical_stress);
+    servo_->set_max_speed(config_.consolidation.servo_max_speed);
     consolidation_start_step_ = world_->step_count();
     consolidating_ = true;
   }
   bool settled = false;
-  while (world_->step_count() - consolidation_start_step_ < config_.consolidation_max_steps) {
+  while (world_->step_count() - consolidation_start_step_ < config_.consolidation.max_steps) {
     world_->step(chunk_steps);
-    settled = servo_->settled() && world_->unbalanced_force_ratio() < config_.equilibrium_ratio;
+    settled = servo_->settled() && world_->unbalanced_force_ratio() < config_.generation.equilibrium_ratio;
     if (settled) break;
     maybe_save_restart();
     std::ostringstream detail;
     detail << "step " << world_->step_count() << ", vertical stress " << servo_->achieved_stress() / 1e3 << " kPa (target "
-           << config_.vertical_stress / 1e3 << "), unbalanced ratio " << world_->unbalanced_force_ratio();
+           << config_.consolidation.vertical_stress / 1e3 << "), unbalanced ratio " << world_->unbalanced_force_ratio();
     progress("consolidation", detail.str());
   }
   consolidating_ = false;
   if (!settled)
-    log_ << "warning: consolidation did not settle within consolidation.max_steps = " << config_.consolidation_max_steps
-         << " (stress " << servo_->achieved_stress() << " Pa, target " << config_.vertical_stress << " Pa)\n";
+    log_ << "warning: consolidation did not settle within consolidation.max_steps = " << config_.consolidation.max_steps
+         << " (stress " << servo_->achieved_stress() << " Pa, target " << config_.consolidation.vertical_stress << " Pa)\n";
   const FacetWall& top = world_->wall(top_);
   const FacetWall& bottom = world_->wall(bottom_);
-  consolidated_height_ = (config_.height + top.displacement.z()) - bottom.displacement.z();
+  consolidated_height_ = (config_.specimen.height + top.displacement.z()) - bottom.displacement.z();
   consolidated_state_ = specimen_state();
   stage_ = ShearStage::Consolidated;
   wall_seconds_ += seconds_since(t0);
@@ -429,24 +430,24 @@ void SimpleShearTest::reconsolidate() {
   stage_ = ShearStage::Generated;
   if (servo_) {
     servo_->hold_position(false);
-    servo_->set_max_speed(config_.servo_max_speed);  // the consolidation's cap, not the shear's
+    servo_->set_max_speed(config_.consolidation.servo_max_speed);  // the consolidation's cap, not the shear's
   }
   consolidate();
 }
 
 ServoSettings SimpleShearTest::servo_settings() const {
   ServoSettings servo;
-  servo.target_stress = config_.vertical_stress;
-  servo.relaxation = config_.servo_relaxation;
-  servo.max_speed = stage_ >= ShearStage::Consolidated ? shear_servo_speed() : config_.servo_max_speed;
-  servo.settle_tolerance = config_.stress_tolerance;
-  servo.settle_steps = static_cast<int>(config_.settle_steps);
+  servo.target_stress = config_.consolidation.vertical_stress;
+  servo.relaxation = config_.consolidation.servo_relaxation;
+  servo.max_speed = stage_ >= ShearStage::Consolidated ? shear_servo_speed() : config_.consolidation.servo_max_speed;
+  servo.settle_tolerance = config_.consolidation.tolerance;
+  servo.settle_steps = static_cast<int>(config_.consolidation.settle_steps);
   return servo;
 }
 
 double SimpleShearTest::shear_servo_speed() const {
-  if (config_.shear_servo_max_speed > 0.0) return config_.shear_servo_max_speed;
-  return std::max(config_.servo_max_speed, shear_rate() * consolidated_height_);
+  if (config_.shear.servo_max_speed > 0.0) return config_.shear.servo_max_speed;
+  return std::max(config_.consolidation.servo_max_speed, shear_rate() * consolidated_height_);
 }
 
 double SimpleShearTest::mean_diameter() const {
@@ -459,30 +460,30 @@ double SimpleShearTest::mean_diameter() const {
 }
 
 Vec3 SimpleShearTest::leg_direction(std::size_t leg) const {
-  const double a = config_.legs.at(leg).direction_deg * pi / 180.0;
+  const double a = legs_.at(leg).direction_deg * pi / 180.0;
   return Vec3(std::cos(a), std::sin(a), 0.0);
 }
 
 double SimpleShearTest::shear_rate() const {
-  if (config_.strain_rate > 0.0) return config_.strain_rate;
+  if (config_.shear.strain_rate > 0.0) return config_.shear.strain_rate;
   // I = gamma_dot d_mean sqrt(rho / p) (docs/model.md 3.4)
-  return config_.inertial_number / (mean_diameter() * std::sqrt(config_.density / config_.vertical_stress));
+  return config_.shear.inertial_number / (mean_diameter() * std::sqrt(config_.specimen.density / config_.consolidation.vertical_stress));
 }
 
 double SimpleShearTest::inertial_number() const {
-  return shear_rate() * mean_diameter() * std::sqrt(config_.density / config_.vertical_stress);
+  return shear_rate() * mean_diameter() * std::sqrt(config_.specimen.density / config_.consolidation.vertical_stress);
 }
 
 void SimpleShearTest::start_leg() {
   const double speed = shear_rate() * consolidated_height_;  // m/s of the bottom plate relative to the top
-  const double share = config_.both_plates_move ? 0.5 : 1.0;
+  const double share = (config_.shear.moving_plate == MovingPlate::Both) ? 0.5 : 1.0;
   FacetWall& bottom = world_->wall(bottom_);
   bottom.velocity = share * speed * leg_direction(leg_);
   FacetWall& top = world_->wall(top_);
   const Vec3 top_horizontal = (share - 1.0) * speed * leg_direction(leg_);
   top.velocity.x() = top_horizontal.x();
   top.velocity.y() = top_horizontal.y();
-  servo_->hold_position(config_.constant_volume);
+  servo_->hold_position((config_.shear.mode == ShearMode::ConstantVolume));
   servo_->set_max_speed(shear_servo_speed());
 }
 
@@ -503,16 +504,16 @@ void SimpleShearTest::shear() {
     previous_relative_.z() = 0.0;
     // The row at zero strain was written after consolidation; the interval is this run's (a
     // specimen consolidated by another run may have used another one).
-    next_output_strain_ = config_.output_every_strain;
+    next_output_strain_ = config_.output.every_strain;
     start_leg();
     log_ << "shear: rate " << shear_rate() << " 1/s, inertial number " << inertial_number() << ", "
-         << (config_.constant_volume ? "constant volume" : "drained") << ", " << config_.legs.size() << " leg(s) to "
-         << config_.total_strain() << "\n";
+         << ((config_.shear.mode == ShearMode::ConstantVolume) ? "constant volume" : "drained") << ", " << legs_.size() << " leg(s) to "
+         << config_.shear.total_strain() << "\n";
     if (inertial_number() > 1e-3 * 1.0001) log_ << "warning: inertial number above 1e-3: not quasi-static\n";
   }
   const std::int64_t steps_before = world_->step_count();
   const double strain_before = path_strain_;  // a resumed run has done part of the path already
-  while (leg_ < config_.legs.size()) {
+  while (leg_ < legs_.size()) {
     world_->step(chunk_steps);
     const FacetWall& top = world_->wall(top_);
     const FacetWall& bottom = world_->wall(bottom_);
@@ -520,22 +521,22 @@ void SimpleShearTest::shear() {
     relative.z() = 0.0;
     path_strain_ += (relative - previous_relative_).norm() / consolidated_height_;
     previous_relative_ = relative;
-    const bool leg_done = path_strain_ - leg_start_strain_ >= config_.legs[leg_].strain * (1 - 1e-12);
+    const bool leg_done = path_strain_ - leg_start_strain_ >= legs_[leg_].strain * (1 - 1e-12);
     if (leg_done) {
-      leg_start_strain_ += config_.legs[leg_].strain;
+      leg_start_strain_ += legs_[leg_].strain;
       ++leg_;
-      if (leg_ < config_.legs.size()) start_leg();
+      if (leg_ < legs_.size()) start_leg();
     }
-    record_outputs(leg_ == config_.legs.size());
+    record_outputs(leg_ == legs_.size());
     maybe_save_restart();
     const double elapsed = seconds_since(t0);
     // Time left from this run's own pace, over the strain still to go.
     const double strain_done = path_strain_ - strain_before;
-    const double strain_left = std::max(0.0, config_.total_strain() - path_strain_);
+    const double strain_left = std::max(0.0, config_.shear.total_strain() - path_strain_);
     std::ostringstream detail;
     detail.precision(4);
     const std::int64_t steps = world_->step_count() - steps_before;
-    detail << "strain " << path_strain_ << " of " << config_.total_strain() << ", tau "
+    detail << "strain " << path_strain_ << " of " << config_.shear.total_strain() << ", tau "
            << (history_.rows().empty() ? 0.0 : history_.rows().back()[history_.column_index("shear_stress")]) / 1e3
            << " kPa, sigma_v " << world_->wall(top_).normal_stress() / 1e3 << " kPa, "
            << static_cast<double>(steps) * static_cast<double>(world_->particles().size()) / std::max(elapsed, 1e-9)
@@ -558,7 +559,7 @@ void SimpleShearTest::run() {
 
 void SimpleShearTest::progress(const std::string& stage, const std::string& detail) const {
   const double now = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-  if (now - last_progress_ < config_.progress_seconds) return;
+  if (now - last_progress_ < config_.output.progress_seconds) return;
   last_progress_ = now;
   log_ << "[" << stage << "] " << detail << std::endl;
 }

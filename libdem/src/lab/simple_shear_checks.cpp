@@ -54,13 +54,13 @@ std::vector<Escape> escapes(const World& w, const FacetWall& bottom, const Facet
 }  // namespace
 
 std::size_t SimpleShearTest::balls_outside() const {
-  return escapes(*world_, world_->wall(bottom_), world_->wall(top_), config_.height, config_.diameter / 2, pebble_radius_)
+  return escapes(*world_, world_->wall(bottom_), world_->wall(top_), config_.specimen.height, config_.specimen.diameter / 2, pebble_radius_)
       .size();
 }
 
 void SimpleShearTest::require_no_escape() const {
   const std::vector<Escape> out =
-      escapes(*world_, world_->wall(bottom_), world_->wall(top_), config_.height, config_.diameter / 2, pebble_radius_);
+      escapes(*world_, world_->wall(bottom_), world_->wall(top_), config_.specimen.height, config_.specimen.diameter / 2, pebble_radius_);
   if (out.empty()) return;
   const Escape& e = out.front();
   const ParticleStore& p = world_->particles();
@@ -93,33 +93,33 @@ void SimpleShearTest::require_no_escape() const {
 void SimpleShearTest::apply_restart_keys(const World& as_configured, const std::filesystem::path& file) {
   const std::string where = "restart file " + file.string() + ": ";
   WorldSettings saved = world_->settings();
-  if (saved.local_damping != config_.local_damping) {
-    world_->set_local_damping(config_.local_damping);
-    log_ << "applied engine.local_damping = " << config_.local_damping << " (the restart file had " << saved.local_damping << ")\n";
+  if (saved.local_damping != config_.engine.local_damping) {
+    world_->set_local_damping(config_.engine.local_damping);
+    log_ << "applied engine.local_damping = " << config_.engine.local_damping << " (the restart file had " << saved.local_damping << ")\n";
   }
-  require(saved.time_step_safety == config_.time_step_safety, where + "engine.time_step_safety", config_.time_step_safety,
+  require(saved.time_step_safety == config_.engine.time_step_safety, where + "engine.time_step_safety", config_.engine.time_step_safety,
           "the file's value, " + std::to_string(saved.time_step_safety) + " (the time step of a running specimen is set by engine.time_step)");
-  if (saved.time_step != config_.time_step) {
-    if (config_.time_step > 0) {
-      world_->set_time_step(config_.time_step);
+  if (saved.time_step != config_.engine.time_step) {
+    if (config_.engine.time_step > 0) {
+      world_->set_time_step(config_.engine.time_step);
     } else {
-      require(false, where + "engine.time_step", config_.time_step,
+      require(false, where + "engine.time_step", config_.engine.time_step,
               "the file's fixed step, " + std::to_string(saved.time_step) + " s, or another fixed step > 0 (0, automatic, "
               "would re-estimate the step mid-run)");
     }
-    log_ << "applied engine.time_step = " << config_.time_step << " s (the restart file had " << saved.time_step << " s)\n";
+    log_ << "applied engine.time_step = " << config_.engine.time_step << " s (the restart file had " << saved.time_step << " s)\n";
   }
   // The configuration's limit, not the one of the run that wrote the file (older files hold 0.5).
-  world_->set_max_overlap_ratio(config_.max_overlap_ratio);
+  world_->set_max_overlap_ratio(config_.engine.max_overlap_ratio);
 
   // Balls: their density is part of the specimen (the first ball tells: all share one density).
   const ParticleStore& p = world_->particles();
   std::size_t ball = 0;
   while (ball < p.size() && p.is_pebble(ball)) ++ball;
   if (ball < p.size()) {
-    const double expected = config_.density * 4.0 / 3.0 * pi * std::pow(p.radius[ball], 3);
-    require(std::abs(p.mass[ball] - expected) <= 1e-9 * expected, where + "specimen.density", config_.density,
-            "the density the specimen was made with (" + std::to_string(p.mass[ball] / expected * config_.density) +
+    const double expected = config_.specimen.density * 4.0 / 3.0 * pi * std::pow(p.radius[ball], 3);
+    require(std::abs(p.mass[ball] - expected) <= 1e-9 * expected, where + "specimen.density", config_.specimen.density,
+            "the density the specimen was made with (" + std::to_string(p.mass[ball] / expected * config_.specimen.density) +
                 " kg/m^3)");
   }
   // Rings and plates as this configuration builds them: same count, pebbles and places.
@@ -128,18 +128,18 @@ void SimpleShearTest::apply_restart_keys(const World& as_configured, const std::
   const bool same_stack = built.size() == rings.size() && [&] {
     for (std::size_t k = 0; k < rings.size(); ++k)
       if (rings[k].pebbles.size() != built[k].pebbles.size() ||
-          (rings[k].x - rings[k].displacement - built[k].x).norm() > 1e-9 * config_.diameter)
+          (rings[k].x - rings[k].displacement - built[k].x).norm() > 1e-9 * config_.specimen.diameter)
         return false;
     return true;
   }();
   require(same_stack, where + "specimen.diameter, specimen.height, rings.pebble_diameter, rings.gap, rings.stack_height",
           "(as configured)", "the values the specimen was made with: resume with its configuration (the ring stack in the file differs)");
   const double file_height = world_->wall(top_).reference_point.z() - world_->wall(top_).displacement.z();
-  require(std::abs(file_height - config_.height) <= 1e-9 * config_.height, where + "specimen.height", config_.height,
+  require(std::abs(file_height - config_.specimen.height) <= 1e-9 * config_.specimen.height, where + "specimen.height", config_.specimen.height,
           "the height the specimen was made with, " + std::to_string(file_height) + " m");
   for (std::size_t k = 0; k < rings.size(); ++k) {
     if (std::abs(rings[k].mass - built[k].mass) > 1e-12 * built[k].mass) {
-      if (k == 0) log_ << "applied rings.density = " << config_.ring_density << " kg/m^3 to the rings of the restart file\n";
+      if (k == 0) log_ << "applied rings.density = " << config_.rings.density << " kg/m^3 to the rings of the restart file\n";
       rings[k].mass = built[k].mass;
       rings[k].inertia_body = built[k].inertia_body;
       rings[k].inv_inertia_body = built[k].inv_inertia_body;

@@ -66,7 +66,7 @@ ShearState SimpleShearTest::measure() const {
   const FacetWall& bottom = w.wall(bottom_);
   ShearState s;
   s.time = w.time();
-  s.height = (config_.height + top.displacement.z()) - bottom.displacement.z();
+  s.height = (config_.specimen.height + top.displacement.z()) - bottom.displacement.z();
   const double reference = consolidated_height_ > 0 ? consolidated_height_ : s.height;
   Vec3 relative = bottom.displacement - top.displacement;
   relative.z() = 0.0;
@@ -82,7 +82,7 @@ ShearState SimpleShearTest::measure() const {
   s.vertical_stress = top.normal_stress();
   s.vertical_stress_bottom = bottom.normal_stress();
   const double dilation = consolidated_height_ > 0 ? (s.height - consolidated_height_) / consolidated_height_ : 0.0;
-  s.volumetric_strain = config_.dilation_positive ? dilation : -dilation;
+  s.volumetric_strain = (config_.output.volumetric_strain_sign == VolumeSign::DilationPositive) ? dilation : -dilation;
 
   // Radial push of the sand on the rings, over the lateral surface.
   double radial = 0.0, mean_force = 0.0;
@@ -100,7 +100,7 @@ ShearState SimpleShearTest::measure() const {
       ++contacts;
     }
   });
-  s.lateral_stress = radial / (2 * pi * (config_.diameter / 2) * s.height);
+  s.lateral_stress = radial / (2 * pi * (config_.specimen.diameter / 2) * s.height);
   s.contacts = contacts;
   s.mean_contact_force = contacts > 0 ? mean_force / static_cast<double>(contacts) : 0.0;
   s.kinetic_energy = w.kinetic_energy();
@@ -114,10 +114,10 @@ ShearState SimpleShearTest::measure() const {
   MeasurementSphere sphere;
   sphere.centre = 0.5 * (bottom.displacement + top.displacement);
   sphere.centre.z() = bottom.displacement.z() + 0.5 * s.height;
-  sphere.radius = config_.probe_radius_ratio * 0.5 * s.height;
+  sphere.radius = config_.measure.sphere_radius_ratio * 0.5 * s.height;
   s.sphere = dem::measure::measure(w, sphere);
-  const Vec3 d = (stage_ >= ShearStage::Shearing && leg_ < config_.legs.size()) ? leg_direction(leg_)
-                 : leg_direction(std::min(leg_, config_.legs.size() - 1));
+  const Vec3 d = (stage_ >= ShearStage::Shearing && leg_ < legs_.size()) ? leg_direction(leg_)
+                 : leg_direction(std::min(leg_, legs_.size() - 1));
   const Mat3 compression = -s.sphere.stress;
   const double s_dd = d.dot(compression * d), s_dz = d.dot(compression * Vec3::UnitZ());
   const double s_zz = compression(2, 2);
@@ -145,7 +145,7 @@ SpecimenState SimpleShearTest::specimen_state() const {
 void SimpleShearTest::record_history() {
   const ShearState s = measure();
   const Mat3 c = -s.sphere.stress;  // compression positive
-  const Vec3 d = leg_direction(std::min(leg_, config_.legs.size() - 1));
+  const Vec3 d = leg_direction(std::min(leg_, legs_.size() - 1));
   std::vector<double> row = {s.time, static_cast<double>(world_->step_count()), static_cast<double>(stage_), s.shear_strain_x,
                     s.shear_strain_y, s.shear_strain, s.shear_stress_x, s.shear_stress_y, s.shear_stress,
                     s.shear_stress_bottom, s.vertical_stress, s.vertical_stress_bottom, s.height, s.volumetric_strain,
@@ -164,21 +164,21 @@ void SimpleShearTest::record_history() {
 void SimpleShearTest::record_outputs(bool force) {
   if (force || path_strain_ >= next_output_strain_ - 1e-12) {
     record_history();
-    while (next_output_strain_ <= path_strain_ + 1e-12) next_output_strain_ += config_.output_every_strain;
+    while (next_output_strain_ <= path_strain_ + 1e-12) next_output_strain_ += config_.output.every_strain;
   }
   const double strain = path_strain_;
-  while (next_fabric_ < config_.fabric_strains.size() && strain >= config_.fabric_strains[next_fabric_] - 1e-12) {
-    fabric_->record(*world_, label_for(config_.fabric_strains[next_fabric_]), strain);
+  while (next_fabric_ < config_.output.fabric_strains.size() && strain >= config_.output.fabric_strains[next_fabric_] - 1e-12) {
+    fabric_->record(*world_, label_for(config_.output.fabric_strains[next_fabric_]), strain);
     ++next_fabric_;
   }
-  while (next_snapshot_ < config_.snapshot_strains.size() && strain >= config_.snapshot_strains[next_snapshot_] - 1e-12) {
-    snapshots_->write(*world_, label_for(config_.snapshot_strains[next_snapshot_]), world_->time(), strain);
+  while (next_snapshot_ < config_.output.snapshot_strains.size() && strain >= config_.output.snapshot_strains[next_snapshot_] - 1e-12) {
+    snapshots_->write(*world_, label_for(config_.output.snapshot_strains[next_snapshot_]), world_->time(), strain);
     ++next_snapshot_;
   }
 }
 
 void SimpleShearTest::maybe_save_restart() {
-  if (world_->step_count() - last_restart_step_ < config_.restart_every_steps) return;
+  if (world_->step_count() - last_restart_step_ < config_.output.restart_every_steps) return;
   last_restart_step_ = world_->step_count();
   save_restart(out_dir_ / "restart.restart");
 }
@@ -447,10 +447,10 @@ void SimpleShearTest::write_summary(const std::string& resolved_config_json) con
   j["porosity_generated"] = generated_porosity_;
   j["d_min_m"] = config_.grading.smallest();
   j["d_max_m"] = d_max;
-  j["height_m"] = config_.height;
+  j["height_m"] = config_.specimen.height;
   j["consolidated_height_m"] = consolidated_height_;
-  j["diameter_m"] = config_.diameter;
-  const double h_over_d = config_.height / d_max, d_over_h = config_.diameter / config_.height;
+  j["diameter_m"] = config_.specimen.diameter;
+  const double h_over_d = config_.specimen.height / d_max, d_over_h = config_.specimen.diameter / config_.specimen.height;
   j["H_over_dmax"] = h_over_d;
   j["D_over_H"] = d_over_h;
   j["astm_d6528_H_over_dmax_above_10"] = h_over_d > 10.0;
@@ -506,19 +506,19 @@ void SimpleShearTest::write_summary(const std::string& resolved_config_json) con
   // Fig. 7), against uniform simple shear with the top held (docs/model.md 8.1).
   if (!rows.empty() && consolidated_height_ > 0) {
     const double from = 0.2, to = 0.4;
-    std::vector<double> summed(static_cast<std::size_t>(config_.profile_bins), 0.0);
+    std::vector<double> summed(static_cast<std::size_t>(config_.measure.profile_bins), 0.0);
     double strain_from = -1, strain_to = -1;
     std::size_t first_row = 0, last_row = 0;
     bool complete = true;
     for (std::size_t r = 1; r < rows.size(); ++r) {
       const double strain = rows[r][col("shear_strain")];
       // Rows fall a little past their nominal strains: half an interval of slack on both ends.
-      const double slack = 0.5 * config_.output_every_strain;
+      const double slack = 0.5 * config_.output.every_strain;
       if (strain <= from + slack || strain > to + slack) continue;
       if (strain_from < 0) strain_from = rows[r - 1][col("shear_strain")], first_row = r;
       strain_to = strain;
       last_row = r;
-      for (int b = 0; b < config_.profile_bins; ++b) {
+      for (int b = 0; b < config_.measure.profile_bins; ++b) {
         const double u = rows[r][col("profile_u_" + std::to_string(b + 1))];
         if (std::isnan(u)) complete = false;
         summed[static_cast<std::size_t>(b)] += u;
@@ -527,8 +527,8 @@ void SimpleShearTest::write_summary(const std::string& resolved_config_json) con
     if (strain_to > strain_from && strain_from >= 0) {
       measure::DisplacementProfile profile;
       const double height = rows.back()[col("height")];
-      for (int b = 0; b < config_.profile_bins; ++b) {
-        const double z = (b + 0.5) * height / config_.profile_bins;
+      for (int b = 0; b < config_.measure.profile_bins; ++b) {
+        const double z = (b + 0.5) * height / config_.measure.profile_bins;
         profile.z_centre.push_back(z);
         profile.z_mean.push_back(z);
         const double u = summed[static_cast<std::size_t>(b)];
@@ -537,7 +537,7 @@ void SimpleShearTest::write_summary(const std::string& resolved_config_json) con
       }
       // The plates' displacements along the last leg over the span (the top moves too with
       // shear.moving_plate = both).
-      const Vec3 d = leg_direction(config_.legs.size() - 1);
+      const Vec3 d = leg_direction(legs_.size() - 1);
       auto plate = [&](std::size_t r, const char* x, const char* y) { return Vec3(rows[r][col(x)], rows[r][col(y)], 0.0).dot(d); };
       const double u_bottom = plate(last_row, "bottom_dx", "bottom_dy") - plate(first_row - 1, "bottom_dx", "bottom_dy");
       const double u_top = plate(last_row, "top_dx", "top_dy") - plate(first_row - 1, "top_dx", "top_dy");

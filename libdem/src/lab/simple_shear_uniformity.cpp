@@ -39,12 +39,12 @@ std::vector<double> SimpleShearTest::uniformity_columns(const ShearState& s) {
   const World& w = *world_;
   const FacetWall& top = w.wall(top_);
   const FacetWall& bottom = w.wall(bottom_);
-  const Vec3 d = leg_direction(std::min(leg_, config_.legs.size() - 1));
+  const Vec3 d = leg_direction(std::min(leg_, legs_.size() - 1));
   const ParticleStore& p = w.particles();
   std::vector<double> out;
 
   // Contacts two ways: active (F_n > 0: ShearState::contacts) and within the detection gap.
-  const double detection = config_.detection_gap_ratio * config_.grading.smallest();
+  const double detection = config_.measure.detection_gap_ratio * config_.grading.smallest();
   const PairContacts& pairs = w.pair_contacts(ContactKind::BallBall);
   std::size_t detected = 0;
   for (std::size_t k = 0; k < pairs.size(); ++k) {
@@ -59,7 +59,7 @@ std::vector<double> SimpleShearTest::uniformity_columns(const ShearState& s) {
                          measure::non_coaxiality_deg(stress, strain_rate, d)});
 
   // The profile of the displacement along d since the last row, by the balls' mid-interval height.
-  const double z_bottom = bottom.displacement.z(), z_top = config_.height + top.displacement.z();
+  const double z_bottom = bottom.displacement.z(), z_top = config_.specimen.height + top.displacement.z();
   std::vector<double> z, u;
   const bool have_reference = !profile_reference_.empty();
   if (have_reference) {
@@ -72,9 +72,9 @@ std::vector<double> SimpleShearTest::uniformity_columns(const ShearState& s) {
   }
   const double u_bottom = (bottom.displacement - profile_bottom_).dot(d), u_top = (top.displacement - profile_top_).dot(d);
   measure::ShearUniformity uniformity{nan, nan, nan, nan, nan};
-  std::vector<double> bins(static_cast<std::size_t>(config_.profile_bins), nan);
+  std::vector<double> bins(static_cast<std::size_t>(config_.measure.profile_bins), nan);
   if (have_reference && u_bottom != u_top) {  // the first row, and a pause, have no profile
-    const measure::DisplacementProfile profile = measure::displacement_profile(z, u, z_bottom, z_top, config_.profile_bins);
+    const measure::DisplacementProfile profile = measure::displacement_profile(z, u, z_bottom, z_top, config_.measure.profile_bins);
     uniformity = measure::shear_uniformity(profile, z_bottom, z_top, u_bottom, u_top);
     bins = profile.mean_displacement;
   }
@@ -94,7 +94,7 @@ std::vector<double> SimpleShearTest::uniformity_columns(const ShearState& s) {
   std::vector<double> z_now, r_now;
   for (std::size_t i = 0; i < p.size(); ++i)
     if (!p.is_pebble(i)) z_now.push_back(p.x[i].z()), r_now.push_back(p.radius[i]);
-  const std::vector<double> porosity = measure::porosity_profile(z_now, r_now, z_bottom, z_top, area_, config_.profile_bins);
+  const std::vector<double> porosity = measure::porosity_profile(z_now, r_now, z_bottom, z_top, area_, config_.measure.profile_bins);
   out.insert(out.end(), porosity.begin(), porosity.end());
   for (const Clump& ring : w.clumps()) out.insert(out.end(), {ring.displacement.x(), ring.displacement.y()});
 

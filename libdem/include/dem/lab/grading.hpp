@@ -28,6 +28,7 @@ struct Grading {
   /// Smallest and largest diameter that can be drawn, after scaling, m.
   double smallest() const;
   double largest() const;
+  bool operator==(const Grading&) const = default;
 };
 
 /// Leighton Buzzard sand fraction B by mass: 0.6-1.2 mm, D10 0.65 mm, D50 0.82 mm, D60 0.897 mm

@@ -233,6 +233,7 @@ class SimpleShearTest {
   void start_leg();
 
   SimpleShearConfig config_;
+  std::vector<ShearLeg> legs_;         // config_.shear.legs()
   std::filesystem::path out_dir_;
   std::unique_ptr<io::OutputFolder> folder_;   // claimed by open_outputs()
   std::filesystem::path restart_folder_;       // folder of the loaded restart file, if any

@@ -1,0 +1,119 @@
+// lab::SimpleShearConfig: one declaration per key. The schema's defaults are the default struct,
+// a preset read through its keys is the struct the preset makes in C++, and the presets hold the
+// study's Table 1 values (typed here from the study, not from the code).
+#include <catch2/catch.hpp>
+
+#include <string>
+#include <vector>
+
+#include "dem/core/errors.hpp"
+#include "dem/io/config.hpp"
+#include "dem/lab/simple_shear_config.hpp"
+
+using Catch::Matchers::Contains;
+using namespace dem;
+using namespace dem::lab;
+
+namespace {
+
+io::Config preset_config(const std::string& preset) {
+  io::Config config(simple_shear_schema());
+  for (const auto& [key, value] : preset_values(preset)) config.set(key, value);
+  return config;
+}
+
+}  // namespace
+
+TEST_CASE("simple-shear keys: the schema's defaults are SimpleShearConfig{}, the study's 4D specimen", "[lab][config]") {
+  const SimpleShearConfig from_schema = simple_shear_config(io::Config(simple_shear_schema()));
+  CHECK(from_schema == SimpleShearConfig{});
+  // A struct built in C++ makes the same specimen as the command line's defaults: 4D balls of
+  // 0.7-1.2 mm x 4 with the Leighton Buzzard sieve curve for mass sampling.
+  const SimpleShearConfig d;
+  CHECK(d.grading.scale == 4.0);
+  CHECK(d.grading.d_min == 0.7e-3);
+  CHECK(d.grading.d_max == 1.2e-3);
+  CHECK(d.grading.sieve_diameters == std::vector<double>{0.60e-3, 0.65e-3, 0.82e-3, 0.897e-3, 1.20e-3});
+  CHECK(d.grading.passing_fraction == std::vector<double>{0.0, 0.10, 0.50, 0.60, 1.0});
+  CHECK(d.generation.plate == GenerationPlate::Servo);
+  CHECK(d.generation_friction() == d.ball_ball.friction);  // "ball-ball" by default
+  // Every key of the schema is one field: the values of the struct name every key, in order.
+  const auto values = simple_shear_values(d);
+  const io::Schema schema = simple_shear_schema();
+  const auto& keys = schema.keys();
+  REQUIRE(values.size() == keys.size());
+  for (std::size_t k = 0; k < keys.size(); ++k) CHECK(values[k].first == keys[k].key);
+}
+
+TEST_CASE("simple-shear keys: each preset read from its keys is the struct made in C++", "[lab][config]") {
+  struct TableRow {
+    std::string preset;
+    double scale, modulus, friction, rolling_friction;
+  };
+  // The study's Table 1, ball-ball row per size scale.
+  const std::vector<TableRow> table = {{"1D", 1.0, 5.3e7, 0.45, 0.18}, {"2D", 2.0, 4.4e7, 0.5, 0.17}, {"4D", 4.0, 1.2e7, 0.5, 0.4}};
+  for (const TableRow& row : table) {
+    INFO(row.preset);
+    const SimpleShearConfig made = simple_shear_preset(row.preset);
+    CHECK(simple_shear_config(preset_config(row.preset)) == made);
+    CHECK(made.grading.scale == row.scale);
+    CHECK(made.ball_ball.effective_modulus == row.modulus);
+    CHECK(made.ball_ball.friction == row.friction);
+    CHECK(made.ball_ball.rolling_friction == row.rolling_friction);
+    // The generation friction is the number itself, so a calibration that varies the ball-ball
+    // friction keeps making the same specimen.
+    CHECK(made.generation.friction == row.friction);
+    CHECK(made.generation.rolling_friction == row.rolling_friction);
+    // Plates and rings are the same at every scale.
+    CHECK(made.ball_facet == ContactTypeConfig{2e7, 1.0, 0.9, 0.9});
+    CHECK(made.ball_pebble == ContactTypeConfig{2e7, 1.0, 0.1, 0.1});
+  }
+  CHECK_THROWS_WITH(simple_shear_preset("3D"), Contains("--preset = 3D") && Contains("1D, 2D, 4D"));
+}
+
+TEST_CASE("simple-shear keys: key = field name, and a struct's values read back to the same struct", "[lab][config]") {
+  io::Config c(simple_shear_schema());
+  c.set("consolidation.tolerance", "0.02");
+  c.set("generation.steps_per_stage", "777");
+  c.set("measure.sphere_radius_ratio", "0.6");
+  c.set("rings.vertical", "sand");
+  c.set("shear.mode", "constant-volume");
+  c.set("output.volumetric_strain_sign", "contraction-positive");
+  c.set("generation.friction", "frictionless");
+  c.set("generation.rolling_friction", "0.25");
+  c.set("shear.directions_deg", "0,90");
+  c.set("shear.leg_strains", "0.1,0.05");
+  const SimpleShearConfig s = simple_shear_config(c);
+  CHECK(s.consolidation.tolerance == 0.02);
+  CHECK(s.generation.steps_per_stage == 777);
+  CHECK(s.measure.sphere_radius_ratio == 0.6);
+  CHECK(s.rings.vertical == RingVertical::Sand);
+  CHECK(s.shear.mode == ShearMode::ConstantVolume);
+  CHECK(s.output.volumetric_strain_sign == VolumeSign::ContractionPositive);
+  CHECK(s.generation_friction() == 0.0);
+  CHECK(s.generation_rolling_friction() == 0.25);
+  REQUIRE(s.shear.legs().size() == 2);
+  CHECK(s.shear.legs()[1].direction_deg == 90.0);
+  CHECK(s.shear.total_strain() == Approx(0.15).epsilon(1e-15));
+
+  io::Config again(simple_shear_schema());
+  for (const auto& [key, value] : simple_shear_values(s)) again.set(key, value);
+  CHECK(simple_shear_config(again) == s);
+}
+
+TEST_CASE("simple-shear keys: the checks across keys apply to a struct built in C++", "[lab][config]") {
+  SimpleShearConfig c;
+  c.rings.stack_height = 0.5 * c.specimen.height;
+  CHECK_THROWS_WITH(c.validate(), Contains("rings.stack_height") && Contains("specimen.height"));
+  c = SimpleShearConfig{};
+  c.shear.directions_deg = {0.0, 90.0};
+  CHECK_THROWS_WITH(c.validate(), Contains("shear.leg_strains"));
+  c.shear.leg_strains = {0.1};
+  CHECK_THROWS_WITH(c.validate(), Contains("shear.leg_strains") && Contains("as many entries"));
+  c = SimpleShearConfig{};
+  c.grading.d_max = 0.5 * c.grading.d_min;
+  CHECK_THROWS_WITH(c.validate(), Contains("grading.d_max"));
+  io::Config text(simple_shear_schema());
+  text.set("generation.friction", "sticky");
+  CHECK_THROWS_WITH(simple_shear_config(text), Contains("generation.friction") && Contains("sticky"));
+}
