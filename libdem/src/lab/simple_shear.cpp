@@ -217,7 +217,7 @@ void SimpleShearTest::generate() {
     // (plates and rings frictionless), cycling towards equilibrium in between. With the servo
     // plate the specimen grows against a low stress instead of a closed cavity.
     set_contact_models(config_.generation_friction(), config_.generation_rolling_friction(), true);
-    if ((config_.generation.plate == GenerationPlate::Servo)) {
+    if (config_.generation.plate == GenerationPlate::Servo) {
       ServoSettings servo = servo_settings();
       servo.target_stress = config_.generation.stress;
       servo.max_speed = config_.generation.servo_max_speed;
@@ -228,7 +228,7 @@ void SimpleShearTest::generate() {
     generation_ = {};
   }
   expand_radii(diameters);
-  if ((config_.generation.plate == GenerationPlate::Servo)) friction_schedule();
+  if (config_.generation.plate == GenerationPlate::Servo) friction_schedule();
   generating_ = false;
   generation_ = {};  // as a run resumed after the generation has it
   generation_floor_ = false;
@@ -483,7 +483,7 @@ void SimpleShearTest::start_leg() {
   const Vec3 top_horizontal = (share - 1.0) * speed * leg_direction(leg_);
   top.velocity.x() = top_horizontal.x();
   top.velocity.y() = top_horizontal.y();
-  servo_->hold_position((config_.shear.mode == ShearMode::ConstantVolume));
+  servo_->hold_position(config_.shear.mode == ShearMode::ConstantVolume);
   servo_->set_max_speed(shear_servo_speed());
 }
 
