@@ -13,6 +13,7 @@
 #include <dem/contact/linear_law.hpp>
 #include <dem/core/errors.hpp>
 #include <dem/geometry/mesh.hpp>
+#include <dem/lab/consolidation.hpp>
 #include <dem/lab/fabric_log.hpp>
 #include <dem/lab/snapshots.hpp>
 
@@ -83,29 +84,18 @@ void SimpleShearTest::build_world() {
   s.max_overlap_ratio = config_.engine.max_overlap_ratio;
   s.threads = config_.engine.threads;
   world_ = std::make_unique<World>(s);
-  const double radius = config_.specimen.diameter / 2, height = config_.specimen.height;
-  area_ = pi * radius * radius;
-  const double pebble_d = config_.rings.pebble_diameter > 0 ? config_.rings.pebble_diameter : config_.grading.smallest();
-
-  // Plates: discs reaching under the rings, loaded over the specimen's cross-section.
-  const double plate_radius = radius + 2.0 * pebble_d;
-  bottom_ = world_->add_wall(make_facet_wall("bottom", geometry::make_disc(Vec3::Zero(), plate_radius, -Vec3::UnitZ(), 24),
-                                             -Vec3::UnitZ(), area_));
-  top_ = world_->add_wall(make_facet_wall("top", geometry::make_disc(Vec3(0, 0, height), plate_radius, Vec3::UnitZ(), 24),
-                                          Vec3::UnitZ(), area_));
-  RingStackSpec rings;
-  rings.inner_radius = radius;
+  ShearCellSpec cell;
+  cell.diameter = config_.specimen.diameter;
+  cell.height = config_.specimen.height;
+  cell.pebble_diameter = config_.rings.pebble_diameter > 0 ? config_.rings.pebble_diameter : config_.grading.smallest();
+  cell.ring_gap = config_.rings.gap > 0 ? config_.rings.gap : 0.05 * cell.pebble_diameter;
+  cell.ring_density = config_.rings.density;
   // Fixed rings cannot follow a dilating specimen: their stack is built with room above it.
-  rings.height = config_.rings.stack_height > 0 ? config_.rings.stack_height
-                 : config_.rings.vertical == RingVertical::Fixed ? 1.1 * height : height;
-  rings.ring_height = pebble_d;
-  rings.pebble_radius = pebble_d / 2;
-  rings.gap = config_.rings.gap > 0 ? config_.rings.gap : 0.05 * pebble_d;
-  rings.ring_density = config_.rings.density;
-  rings.max_opening = config_.grading.smallest();
-  rings.fixed = dof_all;  // held while the specimen is generated; released afterwards
-  pebble_radius_ = rings.pebble_radius;
-  for (const ClumpSpec& ring : make_ring_stack(rings)) world_->add_clump(ring);
+  cell.stack_height = config_.rings.stack_height > 0 ? config_.rings.stack_height
+                      : config_.rings.vertical == RingVertical::Fixed ? 1.1 * cell.height : cell.height;
+  cell.max_opening = config_.grading.smallest();
+  cell.rings = config_.rings.vertical;
+  cell_ = build_shear_cell(*world_, cell);
   set_contact_models(config_.ball_ball.friction, config_.ball_ball.rolling_friction, false);
   servo_.reset();
   world_->add_controller([this](World& w) { control(w); });
@@ -126,66 +116,17 @@ void SimpleShearTest::set_contact_models(double friction, double rolling_frictio
   set(ContactKind::BallPebble, make_contact_model<RollingLinearLaw>(boundary(config_.ball_pebble), "ball_pebble"));
 }
 
-double SimpleShearTest::plate_gap() const {
-  return (config_.specimen.height + world_->wall(top_).displacement.z()) - world_->wall(bottom_).displacement.z();
-}
-
 void SimpleShearTest::control(World& w) {
   if (servo_) (*servo_)(w);
   if (generation_floor_) {
     // While the radii grow, the servo may lift the plate but never lower it below the specimen
     // height: a plate that chased the stress into the loose half-size balls would pack them at
     // the bottom of the cavity.
-    FacetWall& top = w.wall(top_);
-    const double room = plate_gap() - config_.specimen.height;  // m, >= 0
+    FacetWall& top = w.wall(cell_.top);
+    const double room = cell_.plate_gap(w) - config_.specimen.height;  // m, >= 0
     top.velocity.z() = std::max(top.velocity.z(), -room / w.time_step());
   }
-  move_rings(w);
-}
-
-// docs/model.md 4: with rings.vertical = follow, ring k keeps its fraction s_k = (z_k - z_b) / H
-// of the height between the plates: v_k,z = v_b,z + s_k (v_t,z - v_b,z), so z_k - z_b - s_k H is
-// invariant under the step (both move by v dt). Prescribed rings also interpolate horizontally.
-void SimpleShearTest::move_rings(World& w) const {
-  if (config_.rings.vertical == RingVertical::Fixed) return;
-  // Free rings follow the plates only while the specimen is made; then the sand carries them.
-  if (config_.rings.vertical == RingVertical::Free && stage_ >= ShearStage::Generated) return;
-  const FacetWall& top = w.wall(top_);
-  const FacetWall& bottom = w.wall(bottom_);
-  const double z_bottom = bottom.displacement.z(), gap = plate_gap();
-  const bool prescribed = config_.rings.vertical == RingVertical::Prescribed && stage_ >= ShearStage::Generated;
-  // Sand rings: the mean vertical velocity of the balls touching each ring (the interpolation
-  // while the specimen is made, or for a ring that touches none).
-  std::vector<double> sand_vz, touching;
-  if (config_.rings.vertical == RingVertical::Sand && stage_ >= ShearStage::Generated) {
-    sand_vz.assign(w.clumps().size(), 0.0);
-    touching.assign(w.clumps().size(), 0.0);
-    const PairContacts& pebbles = w.pair_contacts(ContactKind::BallPebble);
-    const ParticleStore& p = w.particles();
-    for (std::size_t k = 0; k < pebbles.size(); ++k) {
-      if (!pebbles.touching[k]) continue;
-      const auto ring = static_cast<std::size_t>(p.clump[static_cast<std::size_t>(pebbles.second[k])]);
-      sand_vz[ring] += p.v[static_cast<std::size_t>(pebbles.first[k])].z();
-      touching[ring] += 1.0;
-    }
-  }
-  for (std::size_t k = 0; k < w.clumps().size(); ++k) {
-    Clump& ring = w.clumps()[k];
-    const double s = (ring.x.z() - z_bottom) / gap;
-    const Vec3 v = bottom.velocity + s * (top.velocity - bottom.velocity);
-    ring.v.z() = !touching.empty() && touching[k] > 0 ? sand_vz[k] / touching[k] : v.z();
-    if (prescribed) ring.v.x() = v.x(), ring.v.y() = v.y();
-  }
-}
-
-void SimpleShearTest::release_rings() {
-  const std::uint8_t fixed = config_.rings.vertical == RingVertical::Prescribed ? dof_all
-                             : config_.rings.vertical == RingVertical::Free     ? dof_rotation
-                                                                               : dof_z | dof_rotation;
-  for (Clump& ring : world_->clumps()) {
-    ring.fixed = fixed;
-    if (config_.rings.vertical == RingVertical::Fixed) ring.v.z() = 0.0;
-  }
+  move_rings(w, cell_, stage_ >= ShearStage::Generated);
 }
 
 std::vector<double> SimpleShearTest::target_diameters(std::mt19937_64& rng) const {
@@ -203,6 +144,7 @@ void SimpleShearTest::generate() {
   const std::vector<double> diameters = target_diameters(rng);
   double solid = 0.0;
   for (double d : diameters) solid += pi / 6 * d * d * d;
+  RadiusExpansion expansion;
   if (generating_) {  // resumed from a restart file written during the generation
     require(diameters.size() == ball_count_, "grading and specimen.seed", std::to_string(diameters.size()) + " balls",
             "the " + std::to_string(ball_count_) + " balls of the restart file's generation");
@@ -212,7 +154,8 @@ void SimpleShearTest::generate() {
     log_ << "generation: " << ball_count_ << " balls, d = " << config_.grading.smallest() * 1e3 << "-"
          << config_.grading.largest() * 1e3 << " mm, porosity " << generated_porosity_ << ", H/d_max = "
          << height / config_.grading.largest() << "\n";
-    place_half_size_balls(diameters, rng);
+    expansion = add_expanding_balls(*world_, Cylinder{radius, height}, diameters, config_.specimen.density,
+                                    config_.generation.stages, rng);
     // Expansion to full size in stages, with the generation friction on the ball-ball contacts
     // (plates and rings frictionless), cycling towards equilibrium in between. With the servo
     // plate the specimen grows against a low stress instead of a closed cavity.
@@ -221,19 +164,24 @@ void SimpleShearTest::generate() {
       ServoSettings servo = servo_settings();
       servo.target_stress = config_.generation.stress;
       servo.max_speed = config_.generation.servo_max_speed;
-      servo_ = std::make_shared<ServoWall>(top_, servo);
+      servo_ = std::make_shared<ServoWall>(cell_.top, servo);
       generation_floor_ = true;
     }
     generating_ = true;
     generation_ = {};
   }
-  expand_radii(diameters);
+  if (expansion.balls.empty()) {  // the balls of the restart file, in the order they were added
+    expansion.balls = ball_ids(world_->particles());
+    expansion.diameters = diameters;
+    expansion.stages = config_.generation.stages;
+  }
+  expand_radii(expansion);
   if (config_.generation.plate == GenerationPlate::Servo) friction_schedule();
   generating_ = false;
   generation_ = {};  // as a run resumed after the generation has it
   generation_floor_ = false;
   generated_state_ = specimen_state();
-  release_rings();
+  release_rings(*world_, cell_);
   set_contact_models(config_.ball_ball.friction, config_.ball_ball.rolling_friction, false);
   stage_ = ShearStage::Generated;
   wall_seconds_ += seconds_since(t0);
@@ -244,80 +192,26 @@ void SimpleShearTest::generate() {
   require_no_escape();
 }
 
-void SimpleShearTest::place_half_size_balls(const std::vector<double>& diameters, std::mt19937_64& rng) {
-  // Half-size balls at random, without overlap (solid fraction (1 - n)/8 ~ 0.08: few rejections).
-  const double radius = config_.specimen.diameter / 2, height = config_.specimen.height;
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  const double cell = config_.grading.largest() / 2;
-  std::unordered_map<std::int64_t, std::vector<std::size_t>> cells;
-  auto key = [&](int i, int j, int k) {
-    return (static_cast<std::int64_t>(i) * 4096 + j) * 4096 + k;
-  };
-  std::vector<Vec3> placed;
-  std::vector<double> placed_r;
-  for (std::size_t n = 0; n < diameters.size(); ++n) {
-    const double r = diameters[n] / 4;  // half the target radius
-    for (int attempt = 0;; ++attempt) {
-      require(attempt < 100000, "generation", "(no room)", "a cavity large enough for the balls at half size");
-      const Vec3 x((2 * unit(rng) - 1) * (radius - r), (2 * unit(rng) - 1) * (radius - r), r + unit(rng) * (height - 2 * r));
-      if (x.head<2>().norm() > radius - r) continue;
-      const int ci = static_cast<int>(std::floor(x.x() / cell)) + 2048, cj = static_cast<int>(std::floor(x.y() / cell)) + 2048,
-                ck = static_cast<int>(std::floor(x.z() / cell));
-      bool clear = true;
-      for (int a = -1; a <= 1 && clear; ++a)
-        for (int b = -1; b <= 1 && clear; ++b)
-          for (int c = -1; c <= 1 && clear; ++c) {
-            const auto it = cells.find(key(ci + a, cj + b, ck + c));
-            if (it == cells.end()) continue;
-            for (std::size_t other : it->second)
-              if ((placed[other] - x).norm() < placed_r[other] + r) clear = false;
-          }
-      if (!clear) continue;
-      cells[key(ci, cj, ck)].push_back(placed.size());
-      placed.push_back(x);
-      placed_r.push_back(r);
-      break;
-    }
-  }
-  for (std::size_t n = 0; n < placed.size(); ++n) {
-    BallSpec b;
-    b.position = placed[n];
-    b.radius = placed_r[n];
-    b.density = config_.specimen.density;
-    world_->add_ball(b);
-  }
-}
-
-// Each stage grows the radii in small increments (a jump would overlap neighbours by a large
-// fraction of a radius and trip the instability check), then cycles towards equilibrium. The
-// loop counters live in generation_, so that a restart file written between any two chunks
-// resumes the generation where it was.
-void SimpleShearTest::expand_radii(const std::vector<double>& diameters) {
-  constexpr int increments = 10;
-  constexpr std::int64_t steps_per_increment = 50;
-  // The balls' ids in the order they were added, the order of `diameters` (store indices change
-  // when the store sorts itself, ids do not).
-  const std::vector<ParticleId> ids = ball_ids(world_->particles());
-  require(ids.size() == diameters.size(), "generation: balls in the world", ids.size(),
-          std::to_string(diameters.size()) + ", one per target diameter");
+// Each stage grows the radii in small increments, then cycles towards equilibrium. The loop
+// counters live in generation_, so that a restart file written between any two chunks resumes the
+// generation where it was.
+void SimpleShearTest::expand_radii(const RadiusExpansion& expansion) {
+  require(expansion.balls.size() == expansion.diameters.size(), "generation: balls in the world", expansion.balls.size(),
+          std::to_string(expansion.diameters.size()) + ", one per target diameter");
   GenerationProgress& g = generation_;
-  auto factor = [&] { return 0.5 + 0.5 * ((g.stage - 1) + static_cast<double>(g.increment) / increments) / config_.generation.stages; };
-  for (; g.phase <= GenerationProgress::Settling && g.stage <= config_.generation.stages;
+  for (; g.phase <= GenerationProgress::Settling && g.stage <= expansion.stages;
        ++g.stage, g.increment = 0, g.phase = GenerationProgress::Expanding) {
-    while (g.phase == GenerationProgress::Expanding && g.increment < increments) {
+    while (g.phase == GenerationProgress::Expanding && g.increment < expansion.increments) {
       ++g.increment;
-      ParticleStore& p = world_->particles();
-      for (std::size_t n = 0; n < ids.size(); ++n) p.set_radius(p.index_of(ids[n]), factor() * diameters[n] / 2);
-      world_->invalidate_contacts();
-      world_->update_time_step();
-      world_->step(steps_per_increment);
-      if (g.increment == increments) g.phase = GenerationProgress::Settling, g.settled_steps = 0;
+      set_radii(*world_, expansion, expansion.factor(g.stage, g.increment));
+      world_->step(expansion.steps_per_increment);
+      if (g.increment == expansion.increments) g.phase = GenerationProgress::Settling, g.settled_steps = 0;
       maybe_save_restart();
     }
     settle_generation([&] { return world_->unbalanced_force_ratio() < config_.generation.equilibrium_ratio; });
     std::ostringstream detail;
-    detail << "stage " << g.stage << "/" << config_.generation.stages << ", radius x" << factor() << ", unbalanced ratio "
-           << world_->unbalanced_force_ratio() << ", top plate " << world_->wall(top_).normal_stress() / 1e3
+    detail << "stage " << g.stage << "/" << expansion.stages << ", radius x" << expansion.factor(g.stage, g.increment) << ", unbalanced ratio "
+           << world_->unbalanced_force_ratio() << ", top plate " << world_->wall(cell_.top).normal_stress() / 1e3
            << " kPa, porosity " << specimen_state().porosity;
     log_ << "[generation] " << detail.str() << std::endl;
   }
@@ -367,7 +261,7 @@ void SimpleShearTest::friction_schedule() {
     settle_generation(settled);
     g.phase = GenerationProgress::Reducing;
     log_ << "[generation] friction schedule: mu " << friction_now_ << ", mu_r " << rolling_friction_now_ << ", porosity "
-         << specimen_state().porosity << ", top plate " << world_->wall(top_).normal_stress() / 1e3 << " kPa" << std::endl;
+         << specimen_state().porosity << ", top plate " << world_->wall(cell_.top).normal_stress() / 1e3 << " kPa" << std::endl;
   }
   const SpecimenState state = specimen_state();
   const double porosity = state.porosity;
@@ -387,31 +281,31 @@ void SimpleShearTest::consolidate() {
   require(stage_ == ShearStage::Generated, "consolidate() stage", static_cast<int>(stage_), "1 (generated)");
   open_outputs_if_needed();
   const auto t0 = std::chrono::steady_clock::now();
+  ConsolidationTarget target;
+  target.stress = config_.consolidation.vertical_stress;
+  target.servo_max_speed = config_.consolidation.servo_max_speed;
+  target.equilibrium_ratio = config_.generation.equilibrium_ratio;
+  target.max_steps = config_.consolidation.max_steps;
+  target.chunk_steps = chunk_steps;
   if (!consolidating_) {
-    if (!servo_) servo_ = std::make_shared<ServoWall>(top_, servo_settings());
-    servo_->set_target(config_.consolidation.vertical_stress);
-    servo_->set_max_speed(config_.consolidation.servo_max_speed);
+    if (!servo_) servo_ = std::make_shared<ServoWall>(cell_.top, servo_settings());
+    start_consolidation(*servo_, target);
     consolidation_start_step_ = world_->step_count();
     consolidating_ = true;
   }
-  bool settled = false;
-  while (world_->step_count() - consolidation_start_step_ < config_.consolidation.max_steps) {
-    world_->step(chunk_steps);
-    settled = servo_->settled() && world_->unbalanced_force_ratio() < config_.generation.equilibrium_ratio;
-    if (settled) break;
+  const ConsolidationReport report = lab::consolidate(*world_, *servo_, target, consolidation_start_step_, [&] {
     maybe_save_restart();
     std::ostringstream detail;
     detail << "step " << world_->step_count() << ", vertical stress " << servo_->achieved_stress() / 1e3 << " kPa (target "
-           << config_.consolidation.vertical_stress / 1e3 << "), unbalanced ratio " << world_->unbalanced_force_ratio();
+           << target.stress / 1e3 << "), unbalanced ratio " << world_->unbalanced_force_ratio();
     progress("consolidation", detail.str());
-  }
+  });
   consolidating_ = false;
-  if (!settled)
+  if (!report.settled)
     log_ << "warning: consolidation did not settle within consolidation.max_steps = " << config_.consolidation.max_steps
          << " (stress " << servo_->achieved_stress() << " Pa, target " << config_.consolidation.vertical_stress << " Pa)\n";
-  const FacetWall& top = world_->wall(top_);
-  const FacetWall& bottom = world_->wall(bottom_);
-  consolidated_height_ = (config_.specimen.height + top.displacement.z()) - bottom.displacement.z();
+  const FacetWall& top = world_->wall(cell_.top);
+  consolidated_height_ = cell_.plate_gap(*world_);
   consolidated_state_ = specimen_state();
   stage_ = ShearStage::Consolidated;
   wall_seconds_ += seconds_since(t0);
@@ -460,8 +354,7 @@ double SimpleShearTest::mean_diameter() const {
 }
 
 Vec3 SimpleShearTest::leg_direction(std::size_t leg) const {
-  const double a = legs_.at(leg).direction_deg * pi / 180.0;
-  return Vec3(std::cos(a), std::sin(a), 0.0);
+  return ShearLegMotion{.direction_deg = legs_.at(leg).direction_deg}.direction();
 }
 
 double SimpleShearTest::shear_rate() const {
@@ -475,16 +368,13 @@ double SimpleShearTest::inertial_number() const {
 }
 
 void SimpleShearTest::start_leg() {
-  const double speed = shear_rate() * consolidated_height_;  // m/s of the bottom plate relative to the top
-  const double share = (config_.shear.moving_plate == MovingPlate::Both) ? 0.5 : 1.0;
-  FacetWall& bottom = world_->wall(bottom_);
-  bottom.velocity = share * speed * leg_direction(leg_);
-  FacetWall& top = world_->wall(top_);
-  const Vec3 top_horizontal = (share - 1.0) * speed * leg_direction(leg_);
-  top.velocity.x() = top_horizontal.x();
-  top.velocity.y() = top_horizontal.y();
-  servo_->hold_position(config_.shear.mode == ShearMode::ConstantVolume);
-  servo_->set_max_speed(shear_servo_speed());
+  ShearLegMotion motion;
+  motion.direction_deg = legs_.at(leg_).direction_deg;
+  motion.speed = shear_rate() * consolidated_height_;  // m/s of the bottom plate relative to the top
+  motion.mode = config_.shear.mode;
+  motion.moving_plate = config_.shear.moving_plate;
+  motion.servo_max_speed = shear_servo_speed();
+  start_shear_leg(*world_, cell_, *servo_, motion);
 }
 
 void SimpleShearTest::shear() {
@@ -496,12 +386,8 @@ void SimpleShearTest::shear() {
     stage_ = ShearStage::Shearing;
     leg_ = 0;
     leg_start_strain_ = 0.0;
-    path_strain_ = 0.0;
     steps_at_shear_start_ = world_->step_count();
-    const FacetWall& top = world_->wall(top_);
-    const FacetWall& bottom = world_->wall(bottom_);
-    previous_relative_ = bottom.displacement - top.displacement;
-    previous_relative_.z() = 0.0;
+    path_ = ShearPath(*world_, cell_, consolidated_height_);
     // The row at zero strain was written after consolidation; the interval is this run's (a
     // specimen consolidated by another run may have used another one).
     next_output_strain_ = config_.output.every_strain;
@@ -512,16 +398,11 @@ void SimpleShearTest::shear() {
     if (inertial_number() > 1e-3 * 1.0001) log_ << "warning: inertial number above 1e-3: not quasi-static\n";
   }
   const std::int64_t steps_before = world_->step_count();
-  const double strain_before = path_strain_;  // a resumed run has done part of the path already
+  const double strain_before = path_.strain();  // a resumed run has done part of the path already
   while (leg_ < legs_.size()) {
     world_->step(chunk_steps);
-    const FacetWall& top = world_->wall(top_);
-    const FacetWall& bottom = world_->wall(bottom_);
-    Vec3 relative = bottom.displacement - top.displacement;
-    relative.z() = 0.0;
-    path_strain_ += (relative - previous_relative_).norm() / consolidated_height_;
-    previous_relative_ = relative;
-    const bool leg_done = path_strain_ - leg_start_strain_ >= legs_[leg_].strain * (1 - 1e-12);
+    path_.advance(*world_, cell_);
+    const bool leg_done = path_.strain() - leg_start_strain_ >= legs_[leg_].strain * (1 - 1e-12);
     if (leg_done) {
       leg_start_strain_ += legs_[leg_].strain;
       ++leg_;
@@ -531,21 +412,20 @@ void SimpleShearTest::shear() {
     maybe_save_restart();
     const double elapsed = seconds_since(t0);
     // Time left from this run's own pace, over the strain still to go.
-    const double strain_done = path_strain_ - strain_before;
-    const double strain_left = std::max(0.0, config_.shear.total_strain() - path_strain_);
+    const double strain_done = path_.strain() - strain_before;
+    const double strain_left = std::max(0.0, config_.shear.total_strain() - path_.strain());
     std::ostringstream detail;
     detail.precision(4);
     const std::int64_t steps = world_->step_count() - steps_before;
-    detail << "strain " << path_strain_ << " of " << config_.shear.total_strain() << ", tau "
+    detail << "strain " << path_.strain() << " of " << config_.shear.total_strain() << ", tau "
            << (history_.rows().empty() ? 0.0 : history_.rows().back()[history_.column_index("shear_stress")]) / 1e3
-           << " kPa, sigma_v " << world_->wall(top_).normal_stress() / 1e3 << " kPa, "
+           << " kPa, sigma_v " << world_->wall(cell_.top).normal_stress() / 1e3 << " kPa, "
            << static_cast<double>(steps) * static_cast<double>(world_->particles().size()) / std::max(elapsed, 1e-9)
            << " particle-steps/s, " << (strain_done > 0 ? elapsed * strain_left / strain_done : 0.0) << " s left";
     progress("shear", detail.str());
   }
   stage_ = ShearStage::Done;
-  world_->wall(bottom_).velocity.setZero();
-  world_->wall(top_).velocity.x() = world_->wall(top_).velocity.y() = 0.0;
+  stop_shear(*world_, cell_);
   wall_seconds_ += seconds_since(t0);
   save_restart(out_dir_ / "final.restart");
   log_ << "shear done in " << seconds_since(t0) << " s, " << world_->step_count() - steps_at_shear_start_ << " steps\n";

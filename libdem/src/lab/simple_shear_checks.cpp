@@ -54,13 +54,13 @@ std::vector<Escape> escapes(const World& w, const FacetWall& bottom, const Facet
 }  // namespace
 
 std::size_t SimpleShearTest::balls_outside() const {
-  return escapes(*world_, world_->wall(bottom_), world_->wall(top_), config_.specimen.height, config_.specimen.diameter / 2, pebble_radius_)
+  return escapes(*world_, world_->wall(cell_.bottom), world_->wall(cell_.top), config_.specimen.height, config_.specimen.diameter / 2, cell_.pebble_radius)
       .size();
 }
 
 void SimpleShearTest::require_no_escape() const {
   const std::vector<Escape> out =
-      escapes(*world_, world_->wall(bottom_), world_->wall(top_), config_.specimen.height, config_.specimen.diameter / 2, pebble_radius_);
+      escapes(*world_, world_->wall(cell_.bottom), world_->wall(cell_.top), config_.specimen.height, config_.specimen.diameter / 2, cell_.pebble_radius);
   if (out.empty()) return;
   const Escape& e = out.front();
   const ParticleStore& p = world_->particles();
@@ -68,15 +68,15 @@ void SimpleShearTest::require_no_escape() const {
   std::ostringstream msg;
   msg.precision(6);
   msg << out.size() << " ball(s) left the specimen by step " << world_->step_count() << " (t = " << world_->time()
-      << " s, shear strain " << path_strain_ << "); the first, ball id " << p.id[e.index] << ", is at (" << x.x() << ", "
+      << " s, shear strain " << path_.strain() << "); the first, ball id " << p.id[e.index] << ", is at (" << x.x() << ", "
       << x.y() << ", " << x.z() << ") m: ";
   double stack_top = -std::numeric_limits<double>::infinity();
   for (const Clump& ring : world_->clumps())
-    for (ParticleId pid : ring.pebbles) stack_top = std::max(stack_top, p.x[p.index_of(pid)].z() + pebble_radius_);
+    for (ParticleId pid : ring.pebbles) stack_top = std::max(stack_top, p.x[p.index_of(pid)].z() + cell_.pebble_radius);
   if (e.above_top > 0 || e.below_bottom > 0)
     msg << (e.above_top > 0 ? "above the top plate" : "below the bottom plate")
         << ": it passed through a plate (too large a time step or too soft a ball-facet contact for the stress)";
-  else if (x.z() > stack_top - 2 * pebble_radius_)
+  else if (x.z() > stack_top - 2 * cell_.pebble_radius)
     msg << "beyond the rings at height " << x.z() << " m, the ring stack reaches " << stack_top
         << " m: it escaped over the top ring (a dilating specimen above a stack that does not follow it: "
         << "rings.vertical = follow, or a taller rings.stack_height)";
@@ -134,7 +134,7 @@ void SimpleShearTest::apply_restart_keys(const World& as_configured, const std::
   }();
   require(same_stack, where + "specimen.diameter, specimen.height, rings.pebble_diameter, rings.gap, rings.stack_height",
           "(as configured)", "the values the specimen was made with: resume with its configuration (the ring stack in the file differs)");
-  const double file_height = world_->wall(top_).reference_point.z() - world_->wall(top_).displacement.z();
+  const double file_height = world_->wall(cell_.top).reference_point.z() - world_->wall(cell_.top).displacement.z();
   require(std::abs(file_height - config_.specimen.height) <= 1e-9 * config_.specimen.height, where + "specimen.height", config_.specimen.height,
           "the height the specimen was made with, " + std::to_string(file_height) + " m");
   for (std::size_t k = 0; k < rings.size(); ++k) {

@@ -62,8 +62,8 @@ bool same_folder(const std::filesystem::path& a, const std::filesystem::path& b)
 
 ShearState SimpleShearTest::measure() const {
   const World& w = *world_;
-  const FacetWall& top = w.wall(top_);
-  const FacetWall& bottom = w.wall(bottom_);
+  const FacetWall& top = w.wall(cell_.top);
+  const FacetWall& bottom = w.wall(cell_.bottom);
   ShearState s;
   s.time = w.time();
   s.height = (config_.specimen.height + top.displacement.z()) - bottom.displacement.z();
@@ -74,40 +74,32 @@ ShearState SimpleShearTest::measure() const {
   s.shear_strain_y = relative.y() / reference;
   s.shear_strain = relative.norm() / reference;
   // The sand, dragged along the shear by the bottom plate, pushes the top plate the same way.
-  s.shear_stress_x = top.force.x() / area_;
-  s.shear_stress_y = top.force.y() / area_;
+  s.shear_stress_x = top.force.x() / cell_.area;
+  s.shear_stress_y = top.force.y() / cell_.area;
   s.shear_stress = std::hypot(s.shear_stress_x, s.shear_stress_y);
   const Vec3 along = s.shear_stress > 0 ? Vec3(Vec3(s.shear_stress_x, s.shear_stress_y, 0) / s.shear_stress) : Vec3(Vec3::UnitX());
-  s.shear_stress_bottom = -bottom.force.dot(along) / area_;
+  s.shear_stress_bottom = -bottom.force.dot(along) / cell_.area;
   s.vertical_stress = top.normal_stress();
   s.vertical_stress_bottom = bottom.normal_stress();
   const double dilation = consolidated_height_ > 0 ? (s.height - consolidated_height_) / consolidated_height_ : 0.0;
   s.volumetric_strain = (config_.output.volumetric_strain_sign == VolumeSign::DilationPositive) ? dilation : -dilation;
 
-  // Radial push of the sand on the rings, over the lateral surface.
-  double radial = 0.0, mean_force = 0.0;
+  s.lateral_stress = ring_lateral_stress(w, cell_);
+  double mean_force = 0.0;
   std::size_t contacts = 0;
   const ParticleStore& p = w.particles();
   w.for_each_contact([&](const ContactView& c) {
-    if (c.kind == ContactKind::BallPebble) {
-      const auto j = static_cast<std::size_t>(c.second);
-      const Vec3& centre = w.clumps()[static_cast<std::size_t>(p.clump[j])].x;
-      Vec3 outward = c.point - centre;
-      outward.z() = 0.0;
-      if (outward.norm() > 0) radial += c.force.dot(outward.normalized());
-    } else if (c.kind == ContactKind::BallBall) {
-      mean_force += c.normal_force;
-      ++contacts;
-    }
+    if (c.kind != ContactKind::BallBall) return;
+    mean_force += c.normal_force;
+    ++contacts;
   });
-  s.lateral_stress = radial / (2 * pi * (config_.specimen.diameter / 2) * s.height);
   s.contacts = contacts;
   s.mean_contact_force = contacts > 0 ? mean_force / static_cast<double>(contacts) : 0.0;
   s.kinetic_energy = w.kinetic_energy();
   double solid = 0.0;
   for (std::size_t i = 0; i < p.size(); ++i)
     if (!p.is_pebble(i)) solid += 4.0 / 3.0 * pi * p.radius[i] * p.radius[i] * p.radius[i];
-  s.specimen_porosity = 1.0 - solid / (area_ * s.height);
+  s.specimen_porosity = 1.0 - solid / (cell_.area * s.height);
   s.balls_outside = balls_outside();
 
   // The probe sits at mid-height and follows the specimen's mean horizontal displacement.
@@ -162,11 +154,11 @@ void SimpleShearTest::record_history() {
 }
 
 void SimpleShearTest::record_outputs(bool force) {
-  if (force || path_strain_ >= next_output_strain_ - 1e-12) {
+  if (force || path_.strain() >= next_output_strain_ - 1e-12) {
     record_history();
-    while (next_output_strain_ <= path_strain_ + 1e-12) next_output_strain_ += config_.output.every_strain;
+    while (next_output_strain_ <= path_.strain() + 1e-12) next_output_strain_ += config_.output.every_strain;
   }
-  const double strain = path_strain_;
+  const double strain = path_.strain();
   while (next_fabric_ < config_.output.fabric_strains.size() && strain >= config_.output.fabric_strains[next_fabric_] - 1e-12) {
     fabric_->record(*world_, label_for(config_.output.fabric_strains[next_fabric_]), strain);
     ++next_fabric_;
@@ -188,10 +180,10 @@ std::string SimpleShearTest::protocol_state() const {
   out.precision(17);
   out << "stage " << static_cast<int>(stage_) << "\nball_count " << ball_count_ << "\ngenerated_porosity "
       << generated_porosity_ << "\nconsolidated_height " << consolidated_height_ << "\nleg " << leg_
-      << "\nleg_start_strain " << leg_start_strain_ << "\npath_strain " << path_strain_ << "\nnext_output_strain "
+      << "\nleg_start_strain " << leg_start_strain_ << "\npath_strain " << path_.strain() << "\nnext_output_strain "
       << next_output_strain_ << "\nnext_fabric " << next_fabric_ << "\nnext_snapshot " << next_snapshot_
-      << "\nlast_restart_step " << last_restart_step_ << "\nprevious_relative_x " << previous_relative_.x()
-      << "\nprevious_relative_y " << previous_relative_.y() << "\nwall_seconds " << wall_seconds_
+      << "\nlast_restart_step " << last_restart_step_ << "\nprevious_relative_x " << path_.offset().x()
+      << "\nprevious_relative_y " << path_.offset().y() << "\nwall_seconds " << wall_seconds_
       << "\nsteps_at_shear_start " << steps_at_shear_start_ << "\nhistory_rows " << history_.rows().size()
       << "\nservo " << (servo_ ? 1 : 0) << "\nservo_holding " << (servo_ && servo_->holding_position() ? 1 : 0) << "\n";
   if (servo_)
@@ -265,12 +257,11 @@ void SimpleShearTest::restore_protocol_state(const std::string& text) {
   consolidated_height_ = get("consolidated_height");
   leg_ = static_cast<std::size_t>(get("leg"));
   leg_start_strain_ = get("leg_start_strain");
-  path_strain_ = get("path_strain");
-  next_output_strain_ = get("next_output_strain");
+    next_output_strain_ = get("next_output_strain");
   next_fabric_ = static_cast<std::size_t>(get("next_fabric"));
   next_snapshot_ = static_cast<std::size_t>(get("next_snapshot"));
   last_restart_step_ = static_cast<std::int64_t>(get("last_restart_step"));
-  previous_relative_ = Vec3(get("previous_relative_x"), get("previous_relative_y"), 0.0);
+  path_ = ShearPath(consolidated_height_, get("path_strain"), Vec3(get("previous_relative_x"), get("previous_relative_y"), 0.0));
   wall_seconds_ = get("wall_seconds");
   steps_at_shear_start_ = static_cast<std::int64_t>(get("steps_at_shear_start"));
   if (v.count("profile_bottom_x")) {
@@ -310,7 +301,7 @@ void SimpleShearTest::restore_protocol_state(const std::string& text) {
   if (get("servo") > 0) {
     ServoSettings settings = servo_settings();
     if (v.count("servo_target")) settings.target_stress = get("servo_target"), settings.max_speed = get("servo_max_speed");
-    servo_ = std::make_shared<ServoWall>(top_, settings);
+    servo_ = std::make_shared<ServoWall>(cell_.top, settings);
     servo_->hold_position(get("servo_holding") > 0);
     if (v.count("servo_steps_on_target")) {
       const double on_target = get("servo_steps_on_target");
@@ -435,9 +426,9 @@ void SimpleShearTest::load_restart(const std::filesystem::path& file, ResumeInte
   // A generation resumes with the friction it had reached; the contact lists and their history
   // stay as the file has them (no rebuild that the uninterrupted run did not do).
   if (generating_) set_contact_models(friction_now_, rolling_friction_now_, true, ModelChange::KeepContacts);
-  if (stage_ >= ShearStage::Generated) release_rings();  // rings.vertical from this configuration
+  if (stage_ >= ShearStage::Generated) release_rings(*world_, cell_);  // rings.vertical from this configuration
   log_ << "resumed from " << file.string() << " at step " << world_->step_count() << ", time step " << world_->time_step()
-       << " s (" << to_string(progress_made()) << ", shear strain " << path_strain_ << ")\n";
+       << " s (" << to_string(progress_made()) << ", shear strain " << path_.strain() << ")\n";
 }
 
 void SimpleShearTest::write_summary(const std::string& resolved_config_json) const {

@@ -37,8 +37,8 @@ Layer layer_at(const World& w, const Vec3& centre, double radius, const Vec3& d)
 
 std::vector<double> SimpleShearTest::uniformity_columns(const ShearState& s) {
   const World& w = *world_;
-  const FacetWall& top = w.wall(top_);
-  const FacetWall& bottom = w.wall(bottom_);
+  const FacetWall& top = w.wall(cell_.top);
+  const FacetWall& bottom = w.wall(cell_.bottom);
   const Vec3 d = leg_direction(std::min(leg_, legs_.size() - 1));
   const ParticleStore& p = w.particles();
   std::vector<double> out;
@@ -94,7 +94,7 @@ std::vector<double> SimpleShearTest::uniformity_columns(const ShearState& s) {
   std::vector<double> z_now, r_now;
   for (std::size_t i = 0; i < p.size(); ++i)
     if (!p.is_pebble(i)) z_now.push_back(p.x[i].z()), r_now.push_back(p.radius[i]);
-  const std::vector<double> porosity = measure::porosity_profile(z_now, r_now, z_bottom, z_top, area_, config_.measure.profile_bins);
+  const std::vector<double> porosity = measure::porosity_profile(z_now, r_now, z_bottom, z_top, cell_.area, config_.measure.profile_bins);
   out.insert(out.end(), porosity.begin(), porosity.end());
   for (const Clump& ring : w.clumps()) out.insert(out.end(), {ring.displacement.x(), ring.displacement.y()});
 

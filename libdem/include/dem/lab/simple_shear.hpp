@@ -43,6 +43,9 @@
 #include <dem/io/csv.hpp>
 #include <dem/io/output_folder.hpp>
 #include <dem/lab/resume_rules.hpp>
+#include <dem/lab/radius_expansion.hpp>
+#include <dem/lab/shear_cell.hpp>
+#include <dem/lab/shear_leg.hpp>
 #include <dem/lab/simple_shear_config.hpp>
 #include <dem/measure/measurement_sphere.hpp>
 
@@ -165,11 +168,12 @@ class SimpleShearTest {
   /// The world, for a protocol that drives the consolidated specimen further (lab/cyclic_shear.hpp):
   /// the plates, the servo and the rings stay this test's, its controller keeps running first.
   World& world() { return *world_; }
-  WallId top_plate() const { return top_; }
-  WallId bottom_plate() const { return bottom_; }
+  WallId top_plate() const { return cell_.top; }
+  WallId bottom_plate() const { return cell_.bottom; }
   /// The top plate's vertical servo; nullptr before the consolidation.
   ServoWall* vertical_servo() { return servo_.get(); }
-  double area() const { return area_; }  // m^2, the specimen's cross-section
+  double area() const { return cell_.area; }  // m^2, the specimen's cross-section
+  const ShearCell& cell() const { return cell_; }
   const std::filesystem::path& output_folder() const { return out_dir_; }
   ShearStage stage() const { return stage_; }
   const SimpleShearConfig& config() const { return config_; }
@@ -199,17 +203,13 @@ class SimpleShearTest {
   /// The one controller of the protocol, every step: the servo, the generation floor of the top
   /// plate, then the ring kinematics (rings.vertical), which read the plate velocities just set.
   void control(World& world);
-  void move_rings(World& world) const;
-  void release_rings();
   void friction_schedule();
   /// Steps the settle of the generation (generation.steps_per_stage at most) until `done`.
   void settle_generation(const std::function<bool()>& done);
-  void place_half_size_balls(const std::vector<double>& diameters, std::mt19937_64& rng);
-  void expand_radii(const std::vector<double>& diameters);
+  void expand_radii(const RadiusExpansion& expansion);
   /// The generation's diameters, drawn from `rng` (seeded with specimen.seed).
   std::vector<double> target_diameters(std::mt19937_64& rng) const;
   void apply_restart_keys(const World& as_configured, const std::filesystem::path& file);
-  double plate_gap() const;  // m, top minus bottom plate height
   void record_history();
   /// The history columns past ShearState's: uniformity, layers, non-coaxiality, rings.
   std::vector<double> uniformity_columns(const ShearState& s);
@@ -248,14 +248,13 @@ class SimpleShearTest {
   GenerationProgress generation_;
   bool consolidating_ = false;         // consolidation under way
   std::int64_t consolidation_start_step_ = 0;
-  double pebble_radius_ = 0.0;         // m
   double friction_now_ = 0.0, rolling_friction_now_ = 0.0;  // ball-ball, as set
   SpecimenState generated_state_, consolidated_state_;
   // Positions at the last history row (by ball id; pebbles NaN) and the plates' displacements
   // then: the start of the interval of the displacement profile. Empty before the first row.
   std::vector<Vec3> profile_reference_;
   Vec3 profile_bottom_ = Vec3::Zero(), profile_top_ = Vec3::Zero();
-  WallId bottom_ = -1, top_ = -1;
+  ShearCell cell_;                     // plates and rings
   std::unique_ptr<FabricLog> fabric_;
   std::unique_ptr<SnapshotWriter> snapshots_;
   io::CsvTable history_;
@@ -264,14 +263,12 @@ class SimpleShearTest {
   std::size_t ball_count_ = 0;
   double generated_porosity_ = 0.0;
   double consolidated_height_ = 0.0;   // m
-  double area_ = 0.0;                  // m^2
   std::size_t leg_ = 0;                // current shear leg
   double leg_start_strain_ = 0.0;      // path strain at the start of the leg
-  double path_strain_ = 0.0;           // accumulated |d gamma| along the legs
+  ShearPath path_;                     // accumulated |d gamma| along the legs
   double next_output_strain_ = 0.0;
   std::size_t next_fabric_ = 0, next_snapshot_ = 0;
   std::int64_t last_restart_step_ = 0;
-  Vec3 previous_relative_ = Vec3::Zero();  // m, top minus bottom horizontal displacement at the last chunk
   double wall_seconds_ = 0.0;          // s, simulated-run wall clock so far (all sessions)
   std::int64_t steps_at_shear_start_ = 0;
   mutable double last_progress_ = -1e9;

@@ -18,6 +18,8 @@
 
 #include <dem/io/config.hpp>
 #include <dem/lab/grading.hpp>
+#include <dem/lab/shear_cell.hpp>
+#include <dem/lab/shear_leg.hpp>
 
 namespace dem::lab {
 
@@ -42,15 +44,6 @@ struct ContactTypeConfig {
   double shear_damping_ratio = 0.0;  // -, beta_s
 
   bool operator==(const ContactTypeConfig&) const = default;
-};
-
-/// How the rings move vertically once the specimen is made (docs/model.md 4).
-enum class RingVertical {
-  Fixed,       ///< held at their generation heights
-  Follow,      ///< each ring moves with the specimen: its height interpolated between the plates
-  Prescribed,  ///< follow, and the horizontal displacement is prescribed linear in height (diagnostic)
-  Free,        ///< free in z too: each ring rides on the sand next to it, no vertical side friction on balance
-  Sand,        ///< each ring moves vertically with the mean vertical velocity of the balls touching it
 };
 
 /// [rings]: the stack of clump rings around the specimen.
@@ -105,9 +98,6 @@ struct ConsolidationConfig {
 
   bool operator==(const ConsolidationConfig&) const = default;
 };
-
-enum class ShearMode { Drained, ConstantVolume };  // drained: constant vertical stress (servo)
-enum class MovingPlate { Bottom, Both };           // both: each plate moves half, oppositely
 
 /// One leg of the shear path: the bottom plate moves along `direction_deg` (from +x towards +y)
 /// by `strain` x the consolidated height.
