@@ -35,3 +35,25 @@ def test_oedometer_unloading_k0_is_above_loading(tmp_path):
     assert np.allclose(sigma_v, [50e3, 100e3, 200e3, 100e3, 50e3], rtol=0.02)  # the servo's tolerance
     assert k0[3] > k0[1] and k0[4] > k0[0]  # unloading above loading at 100 and 50 kPa
     assert np.all((k0 > 0.2) & (k0 < 1.5))
+
+
+def test_k0_then_constant_volume_shear_holds_the_height_and_follows_jaky(tmp_path):
+    """examples/k0_constant_volume.cpp, the protocol built from the lab toolkit: the held plate
+    keeps the height through the constant-volume shear, and the K0 of the last load step agrees
+    with Jaky's 1 - sin(phi) for the friction angle the same specimen mobilises in simple shear
+    (tau/sigma_v = sin(phi) at the peak, Davis's reading of simple shear); Jaky's formula fits
+    sands to about 0.1, the bound used here."""
+    program = Path(os.environ.get("LIBDEM_BUILD_DIR", "build")) / "examples" / "k0_constant_volume"
+    out = subprocess.run([str(program), str(tmp_path / "cv.csv"), "0.12"], check=True, capture_output=True,
+                         text=True).stdout
+    load_steps = [line.split() for line in out.splitlines() if line.strip().endswith(("yes", "no"))]
+    assert [row[-1] for row in load_steps] == ["yes"] * 3  # every load step settled on its target
+    sigma_v = np.array([float(row[0]) for row in load_steps]) * 1e3
+    assert np.allclose(sigma_v, [50e3, 100e3, 200e3], rtol=0.01)  # the servo's settle tolerance
+    k0 = float(load_steps[-1][3])
+
+    rows = np.loadtxt(tmp_path / "cv.csv", delimiter=",", skiprows=1)
+    strain, ratio, height = rows[:, 0], rows[:, 3], rows[:, 4]
+    assert strain[-1] >= 0.12
+    assert np.all(np.abs(height - height[0]) <= 1e-12 * height[0])
+    assert abs(k0 - (1 - ratio.max())) < 0.1
