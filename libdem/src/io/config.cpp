@@ -1,17 +1,12 @@
 // Schema-checked configuration. Text is parsed once, when a value is set, into a typed value;
-// getters only check the type. Files are read with Boost.PropertyTree and walked generically, so
-// INI and JSON share every validation rule. Output is hand-written (not write_json) because
-// Boost's JSON writer quotes numbers, which summary.json readers would then have to undo.
-
-// json_parser includes the deprecated <boost/bind.hpp>; this keeps Boost 1.74 from printing a
-// deprecation note on every build (we use no bind placeholders ourselves).
-#define BOOST_BIND_GLOBAL_PLACEHOLDERS
+// getters only check the type. INI files are read with Boost.PropertyTree, JSON files with
+// nlohmann-json (config_json.cpp), both into key = value assignments, so that they share every
+// validation rule.
 #include "dem/io/config.hpp"
 
 #include <algorithm>
 #include <array>
 #include <boost/property_tree/ini_parser.hpp>
-#include <boost/property_tree/json_parser.hpp>
 #include <boost/property_tree/ptree.hpp>
 #include <cctype>
 #include <charconv>
@@ -19,12 +14,14 @@
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
-#include <set>
 #include <sstream>
 #include <stdexcept>
 #include <string_view>
 #include <system_error>
 
+#include <nlohmann/json.hpp>
+
+#include "config_json.hpp"
 #include "dem/core/errors.hpp"
 
 namespace dem::io {
@@ -216,89 +213,14 @@ bool valid_key(const std::string& key) {
          });
 }
 
-// Sets every leaf of a property tree; nested objects join their names with '.', and a node
-// whose children have empty names is a JSON array (a real list). `seen` holds the keys set so
-// far: a key given twice (as "run.steps" and as {"run": {"steps"}}, or with an escaped letter)
-// is refused, as read_ini refuses a repeated INI key, rather than the last one silently winning.
-void load_tree(Config& config, const boost::property_tree::ptree& node,
-               const std::string& prefix, std::set<std::string>& seen) {
+// The assignments of an INI property tree: section.key = value (read_ini refuses repeats).
+void ini_settings(const boost::property_tree::ptree& node, const std::string& prefix,
+                  std::vector<std::pair<std::string, std::string>>& settings) {
   for (const auto& [name, child] : node) {
-    if (name.empty())
-      throw InputError("a list found where named keys were expected, at '" +
-                       (prefix.empty() ? std::string("top level") : prefix) + "'");
     const std::string key = prefix.empty() ? name : prefix + "." + name;
-    const bool leaf = child.empty() || child.front().first.empty();
-    if (leaf && !seen.insert(key).second)
-      throw InputError("duplicate key name '" + key + "': each key may be set once in a file");
-    if (child.empty()) {
-      config.set(key, child.data());
-    } else if (child.front().first.empty()) {
-      std::string joined;
-      for (const auto& [unused, element] : child) {
-        if (!element.empty())
-          throw InputError("config key '" + key + "': list elements must be numbers");
-        joined += (joined.empty() ? "" : ",") + element.data();
-      }
-      config.set(key, joined);
-    } else {
-      load_tree(config, child, key, seen);
-    }
+    if (child.empty()) settings.emplace_back(key, child.data());
+    else ini_settings(child, key, settings);
   }
-}
-
-// Boost's JSON reader recurses once per nesting level (50,000 levels overflow the stack), so
-// the text is scanned first without recursion: nesting depth outside strings, and keys repeated
-// in one object (Boost keeps both; INI refuses them) with their line. Syntax is left to Boost.
-void scan_json(const std::string& text, const std::string& where) {
-  struct Level {
-    bool object;
-    std::string path;  // "section" or "section.key" of this object
-    std::set<std::string> keys;
-  };
-  std::vector<Level> levels;  // only up to max_config_depth; deeper levels are only counted
-  std::size_t depth = 0, deepest = 0, line = 1, deep_line = 0;
-  std::string last_key;  // full name of the last key read: the path of an object that follows
-  for (std::size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    if (c == '\n') {
-      ++line;
-    } else if (c == '"') {
-      const std::size_t start = i + 1, key_line = line;
-      for (++i; i < text.size() && text[i] != '"'; ++i) {
-        if (text[i] == '\\') ++i;  // the escaped character, '"' too
-        else if (text[i] == '\n') ++line;
-      }
-      if (i >= text.size()) break;  // unterminated: Boost reports it
-      const auto next = text.find_first_not_of(" \t\r\n", i + 1);
-      if (next == std::string::npos || text[next] != ':' || depth == 0 || depth > levels.size() ||
-          !levels.back().object)
-        continue;
-      const std::string name = text.substr(start, i - start);
-      Level& level = levels.back();
-      last_key = level.path.empty() ? name : level.path + "." + name;
-      if (!level.keys.insert(name).second) {
-        const auto value = text.find_first_not_of(" \t\r\n", next + 1);
-        const std::string what = value != std::string::npos && text[value] == '{' ? "section" : "key";
-        throw InputError(where + "line " + std::to_string(key_line) + ": duplicate " + what +
-                         " name '" + last_key + "': each " + what + " may appear once");
-      }
-    } else if (c == '{' || c == '[') {
-      ++depth;
-      deepest = std::max(deepest, depth);
-      if (depth <= max_config_depth)
-        levels.push_back({c == '{', depth == 1 ? std::string() : last_key, {}});
-      else if (deep_line == 0)
-        deep_line = line;
-    } else if ((c == '}' || c == ']') && depth > 0) {
-      if (depth <= levels.size()) levels.pop_back();
-      --depth;
-    }
-  }
-  if (deepest > max_config_depth)
-    throw InputError(where + "line " + std::to_string(deep_line) + ": nesting depth " +
-                     std::to_string(deepest) + ": must be at most " +
-                     std::to_string(max_config_depth) +
-                     " levels of objects and arrays (a configuration is section.key)");
 }
 
 // read_ini refuses a repeated key or section by line only; this adds its name.
@@ -318,23 +240,6 @@ std::string ini_duplicate(const std::string& text, std::size_t at_line, const st
     if (n == at_line) return problem + " '" + section + "'";
   }
   return problem;
-}
-
-std::string json_string(const std::string& text) {
-  std::string out = "\"";
-  for (const char c : text) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      char escaped[8];
-      std::snprintf(escaped, sizeof escaped, "\\u%04x", static_cast<unsigned>(c));
-      out += escaped;
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
 }
 
 }  // namespace
@@ -440,25 +345,24 @@ void Config::load_file(const std::filesystem::path& path) {
   }
   if (in.bad()) throw InputError(where + "cannot be read");
 
-  boost::property_tree::ptree tree;
-  try {
-    std::istringstream stream(text);
-    if (extension == ".ini") {
+  std::vector<std::pair<std::string, std::string>> settings;
+  if (extension == ".ini") {
+    boost::property_tree::ptree tree;
+    try {
+      std::istringstream stream(text);
       boost::property_tree::read_ini(stream, tree);
-    } else {
-      scan_json(text, where);
-      boost::property_tree::read_json(stream, tree);
+    } catch (const boost::property_tree::file_parser_error& e) {
+      const std::string problem = e.message().rfind("duplicate", 0) == 0 ? ini_duplicate(text, e.line(), e.message())
+                                                                         : e.message();
+      throw InputError(where + "line " + std::to_string(e.line()) + ": " + problem);
     }
-  } catch (const boost::property_tree::file_parser_error& e) {
-    const std::string problem = extension == ".ini" && e.message().rfind("duplicate", 0) == 0
-                                    ? ini_duplicate(text, e.line(), e.message())
-                                    : e.message();
-    throw InputError(where + "line " + std::to_string(e.line()) + ": " + problem);
+    ini_settings(tree, "", settings);
+  } else {
+    settings = read_json_settings(text, where);
   }
   const auto before = values_;  // all or nothing: a bad file changes no value
   try {
-    std::set<std::string> seen;
-    load_tree(*this, tree, "", seen);
+    for (const auto& [key, value] : settings) set(key, value);
   } catch (const InputError& e) {
     values_ = before;
     throw InputError(where + e.what());
@@ -522,20 +426,14 @@ std::string Config::to_ini() const {
 
 std::string Config::to_json() const {
   const auto& keys = schema_.keys();
-  const auto groups = by_section(keys);
-  std::string out = "{";
-  for (std::size_t g = 0; g < groups.size(); ++g) {
-    out += (g ? ",\n  " : "\n  ") + json_string(section_of(keys[groups[g].front()].key)) + ": {";
-    for (std::size_t k = 0; k < groups[g].size(); ++k) {
-      const std::size_t i = groups[g][k];
-      std::string value = format_value(values_[i]);
-      if (keys[i].type == ValueType::Text) value = json_string(value);
-      if (keys[i].type == ValueType::RealList) value = "[" + value + "]";
-      out += (k ? ",\n    " : "\n    ") + json_string(name_of(keys[i].key)) + ": " + value;
-    }
-    out += "\n  }";
+  nlohmann::ordered_json document = nlohmann::ordered_json::object();
+  for (const auto& group : by_section(keys)) {
+    nlohmann::ordered_json& section = document[section_of(keys[group.front()].key)];
+    section = nlohmann::ordered_json::object();
+    for (const std::size_t i : group)
+      std::visit([&](const auto& value) { section[name_of(keys[i].key)] = value; }, values_[i]);
   }
-  return out + (groups.empty() ? "}\n" : "\n}\n");
+  return document.dump(2) + "\n";
 }
 
 }  // namespace dem::io
