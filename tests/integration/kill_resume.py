@@ -23,6 +23,7 @@ seed gives the same delays, though the step they land on depends on the machine'
 state comparison reads the field layout of World::save_state (world_fields below): a change of
 that layout must be made there too. Only the Python standard library is used.
 """
+import json
 import os
 import random
 import shutil
@@ -137,7 +138,10 @@ def compare_world_states(a, b):
 
 
 def without_wall_clock(protocol):
-    return [line for line in protocol.splitlines() if not line.startswith("wall_seconds ")]
+    """The protocol state (a JSON object) without the run's wall-clock time."""
+    state = json.loads(protocol)
+    state.pop("wall_seconds")
+    return state
 
 
 def check_complete_csv(path, context):

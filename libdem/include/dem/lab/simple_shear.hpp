@@ -124,7 +124,8 @@ class SimpleShearTest {
   /// Whatever remains of generate, consolidate and shear, then the summary.
   void run();
 
-  /// Writes the world, the protocol's progress and the recorded configuration (atomically).
+  /// Writes the world, the protocol's progress and the recorded configuration (atomically); the
+  /// progress is a JSON object in the file's protocol text (simple_shear_state.cpp).
   void save_restart(const std::filesystem::path& file) const;
   /// The resolved configuration this run was made from (every key); restart files carry it, and a
   /// restart loaded later is checked against it key by key (docs/restart.md). Without it (a test

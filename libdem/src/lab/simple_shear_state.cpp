@@ -1,0 +1,258 @@
+// The protocol's progress in a restart file: a JSON object (keys as below) written by
+// protocol_state(), read back by restore_protocol_state(), which also reads the "key value" lines
+// of restart files written before the state was JSON.
+#include <dem/lab/simple_shear.hpp>
+
+#include <cstdlib>
+#include <limits>
+#include <map>
+#include <sstream>
+
+#include <dem/core/errors.hpp>
+
+#include "../io/json_file.hpp"
+
+namespace dem::lab {
+
+namespace {
+
+// The state as read: numbers by key (a missing number is NaN), the configuration record and the
+// positions of the current profile interval.
+struct StateRecord {
+  std::map<std::string, double> values;
+  std::vector<std::pair<std::string, std::string>> configuration;
+  std::vector<Vec3> profile_reference;
+};
+
+double number_of(const io::Json& item, const std::string& key) {
+  if (item.is_null()) return std::numeric_limits<double>::quiet_NaN();  // JSON has no NaN: written as null
+  if (item.is_boolean()) return item.get<bool>() ? 1.0 : 0.0;
+  require(item.is_number(), "restart file: protocol state '" + key + "'", item.dump(), "a number, true/false or null");
+  return item.get<double>();
+}
+
+StateRecord read_json_state(const std::string& text) {
+  StateRecord state;
+  io::Json j;
+  try {
+    j = io::Json::parse(text);
+  } catch (const io::Json::parse_error& e) {
+    throw InputError(std::string("restart file: protocol state is not JSON: ") + e.what());
+  }
+  require(j.is_object(), "restart file: protocol state", j.type_name(), "a JSON object");
+  for (const auto& [key, item] : j.items()) {
+    if (key == "configuration") {  // the record: an object of value texts
+      require(item.is_object(), "restart file: configuration", item.type_name(), "an object of key: value text");
+      for (const auto& [name, value] : item.items()) {
+        require(value.is_string(), "restart file: configuration key '" + name + "'", value.dump(), "a value text");
+        state.configuration.emplace_back(name, value.get<std::string>());
+      }
+    } else if (key == "profile_reference") {  // one position per ball id, null for pebbles
+      require(item.is_array(), "restart file: profile_reference", item.type_name(), "an array of [x, y, z]");
+      for (const auto& x : item) {
+        require(x.is_array() && x.size() == 3, "restart file: profile_reference entry", x.dump(), "[x, y, z]");
+        state.profile_reference.emplace_back(number_of(x[0], key), number_of(x[1], key), number_of(x[2], key));
+      }
+    } else {
+      state.values[key] = number_of(item, key);
+    }
+  }
+  return state;
+}
+
+// Restart files written before the state was JSON: "key value" lines, then the configuration and
+// profile_reference blocks.
+StateRecord read_line_state(const std::string& text) {
+  StateRecord state;
+  std::istringstream in(text);
+  std::string key, token;
+while (in >> key >> token) {
+  const double value = std::strtod(token.c_str(), nullptr);  // "nan" too: states of older runs
+  if (key == "configuration") {  // a count, then that many "key = value" lines
+    require(value >= 0 && value <= 1e4, "restart file: configuration count", value, "a count of keys (<= 10000)");
+    std::string line;
+    std::getline(in, line);
+    for (long k = 0; k < static_cast<long>(value); ++k) {
+      require(static_cast<bool>(std::getline(in, line)), "restart file: configuration", "(truncated)", "one line per key");
+      const auto eq = line.find(" = ");
+      require(eq != std::string::npos, "restart file: configuration line", line, "key = value");
+      state.configuration.emplace_back(line.substr(0, eq), line.substr(eq + 3));
+    }
+    continue;
+  }
+  if (key == "profile_reference") {  // a count, then that many positions
+    require(value >= 0 && value <= 1e9, "restart file: profile_reference count", value, "a count of balls");
+    state.profile_reference.resize(static_cast<std::size_t>(value));
+    for (Vec3& x : state.profile_reference) {
+      std::string a, b, c;  // "nan" for the ids of pebbles
+      in >> a >> b >> c;
+      require(static_cast<bool>(in), "restart file: profile_reference", "(truncated)", "one position per ball id");
+      x = Vec3(std::strtod(a.c_str(), nullptr), std::strtod(b.c_str(), nullptr), std::strtod(c.c_str(), nullptr));
+    }
+    continue;
+  }
+  state.values[key] = value;
+}
+  return state;
+}
+
+}  // namespace
+
+std::string SimpleShearTest::protocol_state() const {
+  io::Json j;
+  j["stage"] = static_cast<int>(stage_);
+  j["ball_count"] = ball_count_;
+  j["generated_porosity"] = generated_porosity_;
+  j["consolidated_height"] = consolidated_height_;
+  j["leg"] = leg_;
+  j["leg_start_strain"] = leg_start_strain_;
+  j["path_strain"] = path_.strain();
+  j["next_output_strain"] = next_output_strain_;
+  j["next_fabric"] = next_fabric_;
+  j["next_snapshot"] = next_snapshot_;
+  j["last_restart_step"] = last_restart_step_;
+  j["previous_relative_x"] = path_.offset().x();
+  j["previous_relative_y"] = path_.offset().y();
+  j["wall_seconds"] = wall_seconds_;
+  j["steps_at_shear_start"] = steps_at_shear_start_;
+  j["history_rows"] = history_.rows().size();
+  j["servo"] = servo_ != nullptr;
+  j["servo_holding"] = servo_ && servo_->holding_position();
+  if (servo_) {
+    j["servo_target"] = servo_->settings().target_stress;
+    j["servo_max_speed"] = servo_->settings().max_speed;
+    j["servo_steps_on_target"] = servo_->steps_on_target();
+  }
+  // Generation and consolidation in progress (restart files written during them).
+  j["generating"] = generating_;
+  j["generation_floor"] = generation_floor_;
+  j["generation_phase"] = generation_.phase;
+  j["generation_stage"] = generation_.stage;
+  j["generation_increment"] = generation_.increment;
+  j["generation_settled_steps"] = generation_.settled_steps;
+  j["friction_now"] = friction_now_;
+  j["rolling_friction_now"] = rolling_friction_now_;
+  j["consolidating"] = consolidating_;
+  j["consolidation_start_step"] = consolidation_start_step_;
+  for (const char* end : {"bottom", "top"}) {
+    const Vec3& x = std::string(end) == "bottom" ? profile_bottom_ : profile_top_;
+    j[std::string("profile_") + end + "_x"] = x.x();
+    j[std::string("profile_") + end + "_y"] = x.y();
+    j[std::string("profile_") + end + "_z"] = x.z();
+  }
+  for (const auto& [name, state] : {std::pair{"specimen_generated", &generated_state_}, std::pair{"specimen_consolidated", &consolidated_state_}}) {
+    const std::string n = name;
+    j[n + "_porosity"] = state->porosity;
+    j[n + "_sphere_porosity"] = state->sphere_porosity;
+    j[n + "_coordination"] = state->coordination_number;
+    j[n + "_mechanical_coordination"] = state->mechanical_coordination_number;
+    j[n + "_vertical_stress"] = state->vertical_stress;
+    j[n + "_k0"] = state->k0;
+    j[n + "_height"] = state->height;
+    j[n + "_friction"] = state->friction;
+    j[n + "_rolling_friction"] = state->rolling_friction;
+  }
+  // The configuration the file was made with (record_configuration), key: value text.
+  io::Json& record = j["configuration"] = io::Json::object();
+  for (const auto& [key, value] : configuration_) record[key] = value;
+  // Last: the positions that start the current profile interval, by ball id (null for pebbles).
+  io::Json& reference = j["profile_reference"] = io::Json::array();
+  for (const Vec3& x : profile_reference_) reference.push_back({x.x(), x.y(), x.z()});
+  // One line: a 1D specimen has 10^5 reference positions. Invalid UTF-8 in a text is replaced, not
+  // thrown on in the middle of a run.
+  return j.dump(-1, ' ', false, io::Json::error_handler_t::replace) + "\n";
+}
+
+void SimpleShearTest::restore_protocol_state(const std::string& text) {
+  const auto first = text.find_first_not_of(" \t\r\n");
+  StateRecord record = first != std::string::npos && text[first] == '{' ? read_json_state(text) : read_line_state(text);
+  const std::map<std::string, double>& v = record.values;
+  file_configuration_ = std::move(record.configuration);
+  profile_reference_ = std::move(record.profile_reference);
+  auto get = [&](const std::string& k) {
+    const auto it = v.find(k);
+    if (it == v.end()) throw InputError("restart file: protocol state has no '" + k + "'");
+    return it->second;
+  };
+  stage_ = static_cast<ShearStage>(static_cast<int>(get("stage")));
+  ball_count_ = static_cast<std::size_t>(get("ball_count"));
+  generated_porosity_ = get("generated_porosity");
+  consolidated_height_ = get("consolidated_height");
+  leg_ = static_cast<std::size_t>(get("leg"));
+  leg_start_strain_ = get("leg_start_strain");
+    next_output_strain_ = get("next_output_strain");
+  next_fabric_ = static_cast<std::size_t>(get("next_fabric"));
+  next_snapshot_ = static_cast<std::size_t>(get("next_snapshot"));
+  last_restart_step_ = static_cast<std::int64_t>(get("last_restart_step"));
+  path_ = ShearPath(consolidated_height_, get("path_strain"), Vec3(get("previous_relative_x"), get("previous_relative_y"), 0.0));
+  wall_seconds_ = get("wall_seconds");
+  steps_at_shear_start_ = static_cast<std::int64_t>(get("steps_at_shear_start"));
+  if (v.count("profile_bottom_x")) {
+    profile_bottom_ = Vec3(get("profile_bottom_x"), get("profile_bottom_y"), get("profile_bottom_z"));
+    profile_top_ = Vec3(get("profile_top_x"), get("profile_top_y"), get("profile_top_z"));
+  }
+  // Files written before these were recorded leave them NaN.
+  auto optional = [&](const std::string& k) {
+    const auto it = v.find(k);
+    return it == v.end() ? std::numeric_limits<double>::quiet_NaN() : it->second;
+  };
+  for (const auto& [name, state] : {std::pair{"specimen_generated", &generated_state_}, std::pair{"specimen_consolidated", &consolidated_state_}}) {
+    const std::string n = name;
+    *state = {optional(n + "_porosity"), optional(n + "_sphere_porosity"), optional(n + "_coordination"),
+              optional(n + "_mechanical_coordination"), optional(n + "_vertical_stress"), optional(n + "_k0"),
+              optional(n + "_height"), optional(n + "_friction"), optional(n + "_rolling_friction")};
+  }
+  const auto rows = static_cast<std::size_t>(get("history_rows"));
+  // Keep the history written up to the restart point; later rows belong to the run that stopped.
+  history_ = io::CsvTable(history_.columns(), io::Missing::Allowed);
+  if (rows > 0) {
+    const io::CsvData old = io::read_csv(restart_folder_ / "history.csv", io::Missing::Allowed);
+    require(old.rows.size() >= rows, "history.csv rows", old.rows.size(), ">= " + std::to_string(rows) + " (as in the restart file)");
+    // Columns by name: a history written before a column existed gets nan in it.
+    std::vector<std::ptrdiff_t> source;
+    for (const std::string& name : history_.columns()) {
+      const auto it = std::find(old.columns.begin(), old.columns.end(), name);
+      source.push_back(it == old.columns.end() ? -1 : it - old.columns.begin());
+    }
+    for (std::size_t r = 0; r < rows; ++r) {
+      std::vector<double> row;
+      for (std::ptrdiff_t c : source)
+        row.push_back(c < 0 ? std::numeric_limits<double>::quiet_NaN() : old.rows[r][static_cast<std::size_t>(c)]);
+      history_.add_row(row);
+    }
+  }
+  if (get("servo") > 0) {
+    ServoSettings settings = servo_settings();
+    if (v.count("servo_target")) settings.target_stress = get("servo_target"), settings.max_speed = get("servo_max_speed");
+    servo_ = std::make_shared<ServoWall>(cell_.top, settings);
+    servo_->hold_position(get("servo_holding") > 0);
+    if (v.count("servo_steps_on_target")) {
+      const double on_target = get("servo_steps_on_target");
+      require(on_target >= 0 && on_target <= 9e15, "restart file: servo_steps_on_target", on_target, "a count of steps >= 0");
+      servo_->resume_steps_on_target(static_cast<std::int64_t>(on_target));
+    }
+  }
+  auto flag = [&](const std::string& k) { return v.count(k) && v.at(k) > 0; };
+  generating_ = flag("generating");
+  generation_floor_ = flag("generation_floor");
+  consolidating_ = flag("consolidating");
+  if (generating_) {
+    generation_.phase = static_cast<int>(get("generation_phase"));
+    generation_.stage = static_cast<int>(get("generation_stage"));
+    generation_.increment = static_cast<int>(get("generation_increment"));
+    generation_.settled_steps = static_cast<long>(get("generation_settled_steps"));
+    require(generation_.phase >= GenerationProgress::Expanding && generation_.phase <= GenerationProgress::ScheduleSettle,
+            "restart file: generation_phase", generation_.phase, "0 to 4");
+    require(generation_.stage >= 1 && generation_.increment >= 0 && generation_.increment <= 10 && generation_.settled_steps >= 0,
+            "restart file: generation_stage, generation_increment, generation_settled_steps",
+            std::to_string(generation_.stage) + ", " + std::to_string(generation_.increment) + ", " +
+                std::to_string(generation_.settled_steps),
+            "a stage >= 1, an increment in 0..10 and a step count >= 0");
+    friction_now_ = get("friction_now");
+    rolling_friction_now_ = get("rolling_friction_now");
+  }
+  if (v.count("consolidation_start_step")) consolidation_start_step_ = static_cast<std::int64_t>(get("consolidation_start_step"));
+}
+
+
+}  // namespace dem::lab
