@@ -7,7 +7,10 @@
 #include <fstream>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include <dem/core/errors.hpp>
+#include <dem/io/checkpoint.hpp>
 #include <dem/lab/resume_rules.hpp>
 #include <dem/lab/simple_shear.hpp>
 
@@ -203,4 +206,46 @@ TEST_CASE("resume: a folder holding another run is refused before anything in it
   replacing.open_outputs({.replace = true});
   // The specimen's own history (its consolidated row) replaces the old file's.
   CHECK(file_text(dir / "history.csv") == file_text(consolidated_specimen() / "history.csv"));
+}
+
+TEST_CASE("resume: a restart file with the key-value protocol lines of earlier versions shears as its JSON twin",
+          "[resume][simple-shear]") {
+  const fs::path file = consolidated_specimen() / "consolidated.restart";
+  std::ostringstream log;
+  // The same world with its protocol state in the line form restart files had before it was JSON.
+  SimpleShearTest reader(simple_shear_config(small_config()), fresh_dir("legacy_reader"), log);
+  const auto state = nlohmann::ordered_json::parse(io::load_checkpoint(file, reader.world()));
+  REQUIRE(state.at("profile_reference").size() > 0);
+  std::ostringstream lines;
+  const auto number = [](const nlohmann::ordered_json& v) {
+    return v.is_null() ? std::string("nan") : v.is_boolean() ? std::string(v.get<bool>() ? "1" : "0") : v.dump();
+  };
+  for (const auto& [key, value] : state.items()) {
+    if (key == "configuration") {
+      lines << "configuration " << value.size() << "\n";
+      for (const auto& [k, v] : value.items()) lines << k << " = " << v.get<std::string>() << "\n";
+    } else if (key == "profile_reference") {
+      lines << "profile_reference " << value.size() << "\n";
+      for (const auto& x : value) lines << number(x[0]) << " " << number(x[1]) << " " << number(x[2]) << "\n";
+    } else {
+      lines << key << " " << number(value) << "\n";
+    }
+  }
+  const fs::path legacy_dir = fresh_dir("legacy_file");
+  fs::create_directories(legacy_dir);
+  io::save_checkpoint(legacy_dir / "consolidated.restart", reader.world(), lines.str());
+  fs::copy_file(consolidated_specimen() / "history.csv", legacy_dir / "history.csv");
+
+  std::string histories[2];
+  const fs::path sources[2] = {file, legacy_dir / "consolidated.restart"};
+  for (int k = 0; k < 2; ++k) {
+    const fs::path out = fresh_dir("legacy_shear_" + std::to_string(k));
+    SimpleShearTest test(simple_shear_config(small_config()), out, log);
+    test.record_configuration(small_config());
+    test.load_restart(sources[k]);
+    test.run();
+    histories[k] = file_text(out / "history.csv");
+  }
+  CHECK(histories[0].size() > 1000);
+  CHECK(histories[0] == histories[1]);
 }
