@@ -186,6 +186,9 @@ void bind_engine(py::module_& m) {
            py::arg("target_stress"), py::arg("max_speed"), py::arg("relaxation") = 0.5, py::arg("settle_tolerance") = 0.01,
            py::arg("settle_steps") = 100);
   py::class_<ServoWall, std::shared_ptr<ServoWall>>(m, "ServoWall", "Holds a target normal stress on a wall (docs/model.md 5)")
+      .def(py::init<WallId, ServoSettings>(), py::arg("wall"), py::arg("settings"),
+           "A servo a protocol's controller runs itself (world.add_servo_wall registers one as a controller)")
+      .def("__call__", &ServoWall::operator(), py::arg("world"), "One control step: sets the wall's normal velocity")
       .def("set_target", &ServoWall::set_target, py::arg("stress"))
       .def("set_max_speed", &ServoWall::set_max_speed, py::arg("max_speed"))
       .def("hold_position", &ServoWall::hold_position, py::arg("hold"))

@@ -1,5 +1,5 @@
 // The Python module `libdem`: errors first (bad input raises ValueError with the library's message,
-// an instability libdem.InstabilityError), then the engine and the lab protocols.
+// an instability libdem.InstabilityError), then the engine, the lab toolkit and the lab protocols.
 #include <pybind11/pybind11.h>
 
 #include <dem/core/errors.hpp>
@@ -21,5 +21,6 @@ PYBIND11_MODULE(libdem, m) {
     }
   });
   dem::python::bind_engine(m);
+  dem::python::bind_toolkit(m);
   dem::python::bind_lab(m);
 }

@@ -57,3 +57,16 @@ def test_k0_then_constant_volume_shear_holds_the_height_and_follows_jaky(tmp_pat
     assert strain[-1] >= 0.12
     assert np.all(np.abs(height - height[0]) <= 1e-12 * height[0])
     assert abs(k0 - (1 - ratio.max())) < 0.1
+
+
+def test_the_python_toolkit_protocol_writes_the_numbers_of_its_cpp_twin(tmp_path):
+    """examples/python/k0_constant_volume.py composes the same toolkit parts in the same order as
+    examples/k0_constant_volume.cpp, with the same seed: every value of its table is the same
+    double (the bindings add no arithmetic; a Python controller only calls the C++ parts)."""
+    program = Path(os.environ.get("LIBDEM_BUILD_DIR", "build")) / "examples" / "k0_constant_volume"
+    subprocess.run([str(program), str(tmp_path / "cpp.csv"), "0.03"], check=True, capture_output=True)
+    run("k0_constant_volume.py", tmp_path / "py.csv", "0.03")
+    cpp = np.loadtxt(tmp_path / "cpp.csv", delimiter=",", skiprows=1)
+    python = np.loadtxt(tmp_path / "py.csv", delimiter=",", skiprows=1)
+    assert cpp.shape == python.shape and cpp.shape[0] >= 6
+    assert np.array_equal(cpp, python)

@@ -1,5 +1,7 @@
 """The lab protocols through Python: the simple-shear run is the C++ app's, byte for byte; the
-cyclic test runs on the consolidated specimen and reports its cycles."""
+cyclic test runs on the consolidated specimen and reports its cycles; the toolkit's parts place
+balls without overlap, move the plates of a shear leg and refuse bad input with the library's
+message."""
 
 import subprocess
 
@@ -43,3 +45,29 @@ def test_cyclic_shear_from_python(tmp_path):
     assert np.count_nonzero(phase == 1) == 2 * 40 + 1  # 40 rows a cycle and the start
     with pytest.raises(ValueError, match="cyclic.path"):
         libdem.CyclicShear(specimen, {"path": "square"})
+
+
+def test_toolkit_places_balls_clear_of_each_other_and_refuses_a_full_cavity():
+    radii = np.random.default_rng(1).uniform(0.3e-3, 0.5e-3, 300)
+    x = libdem.place_without_overlap(libdem.Cylinder(6e-3, 5e-3), radii, libdem.Random(3))
+    assert x.shape == (300, 3)
+    assert np.all(np.hypot(x[:, 0], x[:, 1]) <= 6e-3 - radii) and np.all(x[:, 2] >= radii)
+    gaps = np.linalg.norm(x[:, None] - x[None], axis=2) - (radii[:, None] + radii[None])
+    assert np.all(gaps[~np.eye(300, dtype=bool)] >= 0)
+    with pytest.raises(ValueError, match="no room for ball"):
+        libdem.place_without_overlap(libdem.Cylinder(3e-3, 4e-3), np.full(40, 1e-3), libdem.Random(1))
+
+
+def test_toolkit_shear_leg_moves_the_plates_by_speed_times_time():
+    settings = libdem.WorldSettings()
+    settings.time_step = 1e-5  # s
+    world = libdem.World(settings)
+    spec = libdem.ShearCellSpec()
+    spec.diameter, spec.height, spec.pebble_diameter, spec.ring_gap = 0.012, 0.006, 1.4e-3, 7e-5
+    cell = libdem.build_shear_cell(world, spec)
+    servo = libdem.ServoWall(cell.top, libdem.ServoSettings(1e3, 0.01))
+    path = libdem.ShearPath(world, cell, 0.006)
+    libdem.start_shear_leg(world, cell, servo, libdem.ShearLegMotion(90.0, 0.01, libdem.ShearMode.CONSTANT_VOLUME))
+    world.step(100)
+    assert path.advance(world, cell) == pytest.approx(100 * 0.01 * 1e-5 / 0.006, rel=1e-12)
+    assert libdem.plate_offset(world, cell) == pytest.approx([0, 100 * 0.01 * 1e-5, 0], abs=1e-15)
