@@ -45,7 +45,7 @@ class PlacedBalls {
   const std::vector<Vec3>& positions() const { return x_; }
 
  private:
-  static constexpr std::size_t recent_limit = 512;
+  static constexpr std::size_t recent_limit = 1024;
   double cell_;  // m
   CellGrid grid_;
   std::size_t gridded_ = 0;  // x_[0, gridded_) are in grid_
