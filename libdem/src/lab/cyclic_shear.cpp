@@ -162,9 +162,7 @@ void CyclicShearTest::start_phase(CyclicPhase phase) {
     const Vec3 target = static_stress_;
     d.stress_target = [target](double n) { return target * std::min(1.0, n / 0.25); };
   } else if (phase == CyclicPhase::Cyclic) {
-    const FacetWall& top = w.wall(d.top);
-    const FacetWall& bottom = w.wall(d.bottom);
-    cyclic_start_strain_ = horizontal(bottom.displacement - top.displacement) / d.height;
+    cyclic_start_strain_ = plate_offset(w, specimen_.cell()) / d.height;
     d.work = 0.0;
     if (config_.control == CyclicControl::Stress) {
       d.mode = Drive::Mode::StressServo;
@@ -308,8 +306,7 @@ void CyclicShearTest::run() {
          << last_sample_.vertical_stress / 1e3 << " kPa\n";
   }
   drive_->mode = Drive::Mode::Idle;
-  w.wall(drive_->top).velocity.x() = w.wall(drive_->top).velocity.y() = 0.0;
-  w.wall(drive_->bottom).velocity.setZero();
+  stop_shear(w, specimen_.cell());
   write_outputs();
   specimen_.save_restart(specimen_.output_folder() / "final.restart");
   outcome_.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

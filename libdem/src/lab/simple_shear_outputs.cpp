@@ -64,10 +64,9 @@ ShearState SimpleShearTest::measure() const {
   const FacetWall& bottom = w.wall(cell_.bottom);
   ShearState s;
   s.time = w.time();
-  s.height = (config_.specimen.height + top.displacement.z()) - bottom.displacement.z();
+  s.height = cell_.plate_gap(w);
   const double reference = consolidated_height_ > 0 ? consolidated_height_ : s.height;
-  Vec3 relative = bottom.displacement - top.displacement;
-  relative.z() = 0.0;
+  const Vec3 relative = plate_offset(w, cell_);
   s.shear_strain_x = relative.x() / reference;
   s.shear_strain_y = relative.y() / reference;
   s.shear_strain = relative.norm() / reference;
