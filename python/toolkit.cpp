@@ -1,8 +1,8 @@
 // The lab toolkit from Python: the parts a protocol is written from (lab/shear_cell.hpp,
-// lab/radius_expansion.hpp, lab/consolidation.hpp, lab/shear_leg.hpp, lab/grading.hpp), on a World
-// the script owns. The names and fields are the C++ ones; random draws go through libdem.Random,
-// the generator the C++ parts take, so that a script and a C++ program with the same seed make
-// the same specimen. consolidate() releases the GIL and takes it back only for its callback.
+// lab/radius_expansion.hpp, lab/friction_schedule.hpp, lab/consolidation.hpp, lab/shear_leg.hpp,
+// lab/grading.hpp), on a World the script owns. The names and fields are the C++ ones; random
+// draws go through libdem.Random, the generator the C++ parts take, so that a script and a C++
+// program with the same seed make the same specimen. consolidate() releases the GIL and takes it back only for its callback.
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
@@ -12,6 +12,7 @@
 #include <dem/control/servo_wall.hpp>
 #include <dem/core/world.hpp>
 #include <dem/lab/consolidation.hpp>
+#include <dem/lab/friction_schedule.hpp>
 #include <dem/lab/grading.hpp>
 #include <dem/lab/radius_expansion.hpp>
 #include <dem/lab/shear_cell.hpp>
@@ -103,6 +104,17 @@ void bind_specimen(py::module_& m) {
       .def_readwrite("increments", &lab::RadiusExpansion::increments)
       .def_readwrite("steps_per_increment", &lab::RadiusExpansion::steps_per_increment)
       .def("factor", &lab::RadiusExpansion::factor, py::arg("stage"), py::arg("increment"));
+  py::class_<lab::Friction>(m, "Friction", "Sliding and rolling friction coefficients")
+      .def(py::init([](double sliding, double rolling) { return lab::Friction{sliding, rolling}; }), py::arg("sliding"), py::arg("rolling"))
+      .def_readwrite("sliding", &lab::Friction::sliding)
+      .def_readwrite("rolling", &lab::Friction::rolling);
+  py::class_<lab::FrictionSchedule>(m, "FrictionSchedule", "Friction lowered step by step to a target porosity (docs/model.md 7.1)")
+      .def(py::init([](double target_porosity, double porosity_tolerance, double reduction, double floor) {
+             return lab::FrictionSchedule{target_porosity, porosity_tolerance, reduction, floor};
+           }),
+           py::arg("target_porosity"), py::arg("porosity_tolerance") = 0.005, py::arg("reduction") = 0.5, py::arg("floor") = 0.0);
+  m.def("next_friction", &lab::next_friction, py::arg("schedule"), py::arg("porosity"), py::arg("now"),
+        "The friction of the next step, or None when the schedule is over");
   m.def("set_radii", &lab::set_radii, py::arg("world"), py::arg("expansion"), py::arg("factor"));
   m.def("add_expanding_balls",
         [](World& w, const lab::Cylinder& cavity, const py::array_t<double, py::array::c_style | py::array::forcecast>& diameters,

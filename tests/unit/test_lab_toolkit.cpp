@@ -10,6 +10,7 @@
 
 #include <dem/contact/linear_law.hpp>
 #include <dem/lab/consolidation.hpp>
+#include <dem/lab/friction_schedule.hpp>
 #include <dem/lab/grading.hpp>
 #include <dem/lab/radius_expansion.hpp>
 #include <dem/lab/shear_cell.hpp>
@@ -175,4 +176,28 @@ TEST_CASE("lab toolkit: consolidation ends within the servo tolerance of its tar
   CHECK(std::abs(report.stress - 80e3) <= 0.01 * 80e3);  // the servo's settle tolerance
   CHECK(report.unbalanced_ratio < target.equilibrium_ratio);
   CHECK(world.wall(cell.top).normal_stress() == Approx(report.stress));
+}
+
+TEST_CASE("lab toolkit: the friction schedule halves the friction to its floor, then zero, and stops at the porosity",
+          "[lab][toolkit]") {
+  const FrictionSchedule schedule{.target_porosity = 0.40, .porosity_tolerance = 0.005, .reduction = 0.5, .floor = 0.005};
+  Friction now{0.5, 0.4};
+  int steps = 0;
+  while (const std::optional<Friction> next = next_friction(schedule, 0.45, now)) {
+    now = *next;
+    ++steps;
+    if (now.sliding > 0) {
+      CHECK(now.sliding == 0.5 * std::pow(0.5, steps));  // exact: halving is exact in binary
+      CHECK(now.rolling == 0.4 * std::pow(0.5, steps));
+    }
+    REQUIRE(steps < 20);
+  }
+  // 0.5 x 0.5^7 = 0.0039 is the first below the floor: step 7 sets zero, and zero friction ends it.
+  CHECK(steps == 7);
+  CHECK(now.sliding == 0.0);
+  CHECK(now.rolling == 0.0);
+  // Within the tolerance of the target (or denser) there is no next step.
+  CHECK_FALSE(next_friction(schedule, 0.405, {0.5, 0.4}));
+  CHECK_FALSE(next_friction(schedule, 0.39, {0.5, 0.4}));
+  CHECK(next_friction(schedule, 0.4051, {0.5, 0.4}));
 }

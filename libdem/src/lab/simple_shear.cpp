@@ -15,6 +15,7 @@
 #include <dem/geometry/mesh.hpp>
 #include <dem/lab/consolidation.hpp>
 #include <dem/lab/fabric_log.hpp>
+#include <dem/lab/friction_schedule.hpp>
 #include <dem/lab/snapshots.hpp>
 
 namespace dem::lab {
@@ -246,15 +247,16 @@ void SimpleShearTest::friction_schedule() {
     settle_generation(settled);
     g.phase = GenerationProgress::Reducing;
   }
-  const double smallest = 1e-2 * std::max(config_.generation_friction(), config_.generation_rolling_friction());
+  FrictionSchedule schedule;
+  schedule.target_porosity = config_.specimen.porosity;
+  schedule.porosity_tolerance = config_.generation.porosity_tolerance;
+  schedule.reduction = config_.generation.friction_reduction;
+  schedule.floor = 1e-2 * std::max(config_.generation_friction(), config_.generation_rolling_friction());
   while (true) {
     if (g.phase == GenerationProgress::Reducing) {
-      double mu = friction_now_, mu_r = rolling_friction_now_;
-      if (!(specimen_state().porosity > config_.specimen.porosity + config_.generation.porosity_tolerance && (mu > 0 || mu_r > 0))) break;
-      mu *= config_.generation.friction_reduction;
-      mu_r *= config_.generation.friction_reduction;
-      if (std::max(mu, mu_r) < smallest) mu = mu_r = 0.0;
-      set_contact_models(mu, mu_r, true);
+      const std::optional<Friction> next = next_friction(schedule, specimen_state().porosity, {friction_now_, rolling_friction_now_});
+      if (!next) break;
+      set_contact_models(next->sliding, next->rolling, true);
       g.phase = GenerationProgress::ScheduleSettle;
       g.settled_steps = 0;
     }
