@@ -4,6 +4,7 @@
 #include <dem/core/world.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -13,6 +14,14 @@
 #include <dem/core/errors.hpp>
 
 namespace dem {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
 
 World::World(WorldSettings settings) : settings_(settings) {
   require_non_negative("time_step", settings_.time_step);
@@ -112,12 +121,18 @@ void World::add_callback(std::int64_t every, std::function<void(World&)> callbac
 
 void World::step(std::int64_t n) {
   for (std::int64_t s = 0; s < n; ++s) {
+    const auto t0 = std::chrono::steady_clock::now();
     if (need_rebuild_ || needs_rebuild()) rebuild(settings_.sort_every > 0 && rebuilds_ % settings_.sort_every == 0);
     if (near_stale_ || 2.0 * std::sqrt(max_near_travel_sq_) > near_skin_) refresh_near();
     if (dt_ <= 0.0) update_time_step();
-    compute_forces();
+    timing_.rebuilds += seconds_since(t0);
+    compute_forces();  // times its own parts
+    const auto t1 = std::chrono::steady_clock::now();
     for (auto& controller : controllers_) controller(*this);
+    const auto t2 = std::chrono::steady_clock::now();
+    timing_.controllers += std::chrono::duration<double>(t2 - t1).count();
     integrate();
+    timing_.integration += seconds_since(t2);
     time_ += dt_;
     ++steps_;
     for (auto& [every, callback] : callbacks_)

@@ -5,6 +5,7 @@
 // order. So every particle's sum is the serial one, bit for bit, for any thread count, and only the
 // few particles on the shares' borders pay for a gather.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include <dem/core/errors.hpp>
@@ -106,9 +107,19 @@ void World::compute_forces() {
     ctx.gathered = gathered_.data();
   }
   OverlapMonitor worst_bb, worst_bp, worst_wall;
+  auto lap = std::chrono::steady_clock::now();
+  const auto time_into = [&lap](double& part) {
+    const auto now = std::chrono::steady_clock::now();
+    part += std::chrono::duration<double>(now - lap).count();
+    lap = now;
+  };
+  time_into(timing_.force_sums);
   if (ball_ball_.size() > 0) model_for(models_[0], ContactKind::BallBall).compute(ball_ball_, ctx, worst_bb);
+  time_into(timing_.ball_ball);
   if (ball_pebble_.size() > 0) model_for(models_[2], ContactKind::BallPebble).compute(ball_pebble_, ctx, worst_bp);
+  time_into(timing_.ball_pebble);
   if (wall_contacts_.size() > 0) model_for(models_[1], ContactKind::BallFacet).compute(wall_contacts_, ctx, worst_wall);
+  time_into(timing_.ball_facet);
 
   if (parallel) {
     const auto gathered = static_cast<std::int64_t>(gathered_list_.size());
@@ -148,6 +159,7 @@ void World::compute_forces() {
   if (worst_bp.ratio > worst->ratio) worst = &worst_bp, kind = ContactKind::BallPebble;
   if (worst_wall.ratio > worst->ratio) worst = &worst_wall, kind = ContactKind::BallFacet;
   check_stability(*worst, kind);
+  time_into(timing_.force_sums);
 }
 
 }  // namespace dem

@@ -54,6 +54,20 @@ struct WorldSettings {
   bool pebble_pebble_contacts = false;  // contacts between pebbles of different clumps (ball-pebble law)
 };
 
+/// Wall-clock seconds spent in each part of the step, summed over the steps since the World was
+/// made or reset_step_timing() (not part of the saved state). For benchmarks: where a step's time
+/// goes; the results do not depend on it.
+struct StepTiming {
+  double rebuilds = 0.0;     // s, neighbour lists (cell grid, pair and wall candidates, near lists)
+  double ball_ball = 0.0;    // s, the ball-ball contact laws over the pair list
+  double ball_pebble = 0.0;  // s, the ball-pebble contact laws (the rings)
+  double ball_facet = 0.0;   // s, the ball-facet contact laws (the walls)
+  double force_sums = 0.0;   // s, zeroing, gathering and summing forces on balls and walls, overlap check
+  double controllers = 0.0;  // s, servo walls and protocol controllers
+  double integration = 0.0;  // s, balls, clumps and pebbles, walls
+  double total() const { return rebuilds + ball_ball + ball_pebble + ball_facet + force_sums + controllers + integration; }
+};
+
 /// One contact as seen by measurements and outputs, after a step.
 struct ContactView {
   ContactKind kind;
@@ -101,6 +115,9 @@ class World {
   /// Re-estimates the automatic time step now (after generation or a stiffness change).
   void update_time_step();
   int threads() const { return threads_; }
+  /// Where the steps' time went so far (StepTiming).
+  const StepTiming& step_timing() const { return timing_; }
+  void reset_step_timing() { timing_ = {}; }
 
   // --- state ---------------------------------------------------------------------------------
   const ParticleStore& particles() const { return particles_; }
@@ -186,6 +203,7 @@ class World {
   double dt_ = 0.0;
   double time_ = 0.0;
   std::int64_t steps_ = 0;
+  StepTiming timing_;
   double max_travel_sq_ = 0.0;  // largest squared displacement since the last rebuild, m^2
   double max_wall_travel_ = 0.0;
   double skin_ = 0.0;  // m, the skin of the current lists (resolved at each rebuild)
