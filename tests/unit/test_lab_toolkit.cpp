@@ -128,7 +128,7 @@ TEST_CASE("lab toolkit: Follow rings keep their fraction of the height between m
   world.add_controller([&](World& w) { move_rings(w, cell, true); });
   std::vector<double> fraction;
   for (std::size_t k = cell.first_ring; k < cell.first_ring + cell.ring_count; ++k)
-    fraction.push_back((world.clumps()[k].x.z() - 0.0) / cell.plate_gap(world));
+    fraction.push_back((world.clumps()[k].x.z() - world.wall(cell.bottom).displacement.z()) / cell.plate_gap(world));
   world.wall(cell.top).velocity = Vec3(0, 0, 0.02);      // m/s, the specimen dilates
   world.wall(cell.bottom).velocity = Vec3(0, 0, 0.005);  // and its base rises
   world.step(500);

@@ -7,12 +7,9 @@
 #include <cmath>
 #include <ostream>
 #include <random>
-#include <unordered_map>
 
-#include <dem/boundary/clump_ring.hpp>
 #include <dem/contact/linear_law.hpp>
 #include <dem/core/errors.hpp>
-#include <dem/geometry/mesh.hpp>
 #include <dem/lab/consolidation.hpp>
 #include <dem/lab/fabric_log.hpp>
 #include <dem/lab/friction_schedule.hpp>
@@ -149,6 +146,9 @@ void SimpleShearTest::generate() {
   if (generating_) {  // resumed from a restart file written during the generation
     require(diameters.size() == ball_count_, "grading and specimen.seed", std::to_string(diameters.size()) + " balls",
             "the " + std::to_string(ball_count_) + " balls of the restart file's generation");
+    expansion.balls = ball_ids(world_->particles());  // in the order they were added
+    expansion.diameters = diameters;
+    expansion.stages = config_.generation.stages;
   } else {
     generated_porosity_ = 1.0 - solid / cavity;
     ball_count_ = diameters.size();
@@ -171,11 +171,6 @@ void SimpleShearTest::generate() {
     generating_ = true;
     generation_ = {};
   }
-  if (expansion.balls.empty()) {  // the balls of the restart file, in the order they were added
-    expansion.balls = ball_ids(world_->particles());
-    expansion.diameters = diameters;
-    expansion.stages = config_.generation.stages;
-  }
   expand_radii(expansion);
   if (config_.generation.plate == GenerationPlate::Servo) friction_schedule();
   generating_ = false;
@@ -197,8 +192,6 @@ void SimpleShearTest::generate() {
 // counters live in generation_, so that a restart file written between any two chunks resumes the
 // generation where it was.
 void SimpleShearTest::expand_radii(const RadiusExpansion& expansion) {
-  require(expansion.balls.size() == expansion.diameters.size(), "generation: balls in the world", expansion.balls.size(),
-          std::to_string(expansion.diameters.size()) + ", one per target diameter");
   GenerationProgress& g = generation_;
   for (; g.phase <= GenerationProgress::Settling && g.stage <= expansion.stages;
        ++g.stage, g.increment = 0, g.phase = GenerationProgress::Expanding) {

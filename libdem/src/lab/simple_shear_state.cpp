@@ -134,11 +134,11 @@ std::string SimpleShearTest::protocol_state() const {
   j["rolling_friction_now"] = rolling_friction_now_;
   j["consolidating"] = consolidating_;
   j["consolidation_start_step"] = consolidation_start_step_;
-  for (const char* end : {"bottom", "top"}) {
-    const Vec3& x = std::string(end) == "bottom" ? profile_bottom_ : profile_top_;
-    j[std::string("profile_") + end + "_x"] = x.x();
-    j[std::string("profile_") + end + "_y"] = x.y();
-    j[std::string("profile_") + end + "_z"] = x.z();
+  for (const auto& [end, x] : {std::pair{"bottom", &profile_bottom_}, std::pair{"top", &profile_top_}}) {
+    const std::string name = std::string("profile_") + end;
+    j[name + "_x"] = x->x();
+    j[name + "_y"] = x->y();
+    j[name + "_z"] = x->z();
   }
   for (const auto& [name, state] : {std::pair{"specimen_generated", &generated_state_}, std::pair{"specimen_consolidated", &consolidated_state_}}) {
     const std::string n = name;
