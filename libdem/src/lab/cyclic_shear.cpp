@@ -25,11 +25,6 @@ Vec3 horizontal(Vec3 v) {
   return v;
 }
 
-Vec3 direction(double deg) {
-  const double a = deg * pi / 180.0;
-  return Vec3(std::cos(a), std::sin(a), 0.0);
-}
-
 std::string cycle_label(double cycles) {
   std::ostringstream out;
   out << "cycle_" << cycles;
@@ -107,7 +102,7 @@ CyclicShearTest::CyclicShearTest(SimpleShearTest& specimen, CyclicShearConfig co
                                                 : CyclicPath(config_.path, config_.direction_deg, config_.minor_ratio)),
       drive_(std::make_shared<Drive>()),
       history_(history_columns(), io::Missing::Allowed),
-      cycles_(direction(config_.direction_deg), static_cast<int>(config_.rows_per_cycle)) {
+      cycles_(horizontal_direction(config_.direction_deg), static_cast<int>(config_.rows_per_cycle)) {
   require(specimen_.stage() == ShearStage::Consolidated, "cyclic shear: the specimen's stage", static_cast<int>(specimen_.stage()),
           "2 (consolidated: run consolidate() or load a consolidated restart)");
   World& w = specimen_.world();
@@ -173,7 +168,7 @@ void CyclicShearTest::start_phase(CyclicPhase phase) {
     }
   } else {
     d.mode = Drive::Mode::Monotonic;
-    d.monotonic_velocity = shear_rate_ * d.height * direction(config_.post_direction_deg);
+    d.monotonic_velocity = shear_rate_ * d.height * horizontal_direction(config_.post_direction_deg);
   }
 }
 
@@ -236,7 +231,7 @@ void CyclicShearTest::run() {
   const double sigma_v0 = outcome_.vertical_stress_initial;
   servo->set_target(specimen_.config().consolidation.vertical_stress);
   servo->hold_position(config_.drainage == CyclicDrainage::ConstantVolume);
-  static_stress_ = config_.static_csr * sigma_v0 * direction(config_.static_direction_deg);
+  static_stress_ = config_.static_csr * sigma_v0 * horizontal_direction(config_.static_direction_deg);
   log_ << "cyclic shear: " << (config_.control == CyclicControl::Stress ? "stress" : "strain") << "-controlled "
        << to_string(config_.path) << ", "
        << (config_.control == CyclicControl::Stress ? "CSR " + std::to_string(config_.csr) : "strain amplitude " + std::to_string(config_.strain_amplitude))

@@ -4,10 +4,12 @@
 
 namespace dem::lab {
 
-Vec3 ShearLegMotion::direction() const {
-  const double a = direction_deg * pi / 180.0;
+Vec3 horizontal_direction(double deg) {
+  const double a = deg * pi / 180.0;
   return Vec3(std::cos(a), std::sin(a), 0.0);
 }
+
+Vec3 ShearLegMotion::direction() const { return horizontal_direction(direction_deg); }
 
 void start_shear_leg(World& world, const ShearCell& cell, ServoWall& servo, const ShearLegMotion& motion) {
   const double share = (motion.moving_plate == MovingPlate::Both) ? 0.5 : 1.0;

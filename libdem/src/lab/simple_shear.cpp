@@ -349,7 +349,7 @@ double SimpleShearTest::mean_diameter() const {
 }
 
 Vec3 SimpleShearTest::leg_direction(std::size_t leg) const {
-  return ShearLegMotion{.direction_deg = legs_.at(leg).direction_deg}.direction();
+  return horizontal_direction(legs_.at(leg).direction_deg);
 }
 
 double SimpleShearTest::shear_rate() const {

@@ -14,6 +14,9 @@ namespace dem::lab {
 enum class ShearMode { Drained, ConstantVolume };  // drained: constant vertical stress (servo)
 enum class MovingPlate { Bottom, Both };           // both: each plate moves half, oppositely
 
+/// The unit horizontal vector at `deg` degrees from +x towards +y.
+Vec3 horizontal_direction(double deg);
+
 /// How the plates move during one leg.
 struct ShearLegMotion {
   double direction_deg = 0.0;  // deg, of the bottom plate's motion relative to the top, from +x towards +y
