@@ -100,4 +100,17 @@ void release_rings(World& world, const ShearCell& cell) {
   }
 }
 
+void add_ring_columns(HistoryLog& log, const World& world, const ShearCell& cell) {
+  std::vector<std::string> names;
+  for (std::size_t k = 0; k < cell.ring_count; ++k)
+    for (const char* axis : {"dx", "dy"}) names.push_back("ring_" + std::to_string(k + 1) + "_" + axis);
+  if (names.empty()) return;
+  log.add(names, [&world, &cell](std::vector<double>& row) {
+    for (std::size_t k = 0; k < cell.ring_count; ++k) {
+      const Vec3& d = world.clumps()[cell.first_ring + k].displacement;
+      row.insert(row.end(), {d.x(), d.y()});
+    }
+  });
+}
+
 }  // namespace dem::lab

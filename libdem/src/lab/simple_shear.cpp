@@ -30,26 +30,6 @@ RollingLinearLaw::Params law_params(const ContactTypeConfig& c, double friction,
   return p;
 }
 
-std::vector<std::string> history_columns(std::size_t rings, int bins) {
-  std::vector<std::string> c = {
-      "time", "step", "stage", "shear_strain_x", "shear_strain_y", "shear_strain", "shear_stress_x", "shear_stress_y",
-      "shear_stress", "shear_stress_bottom", "vertical_stress", "vertical_stress_bottom", "height",
-      "volumetric_strain", "lateral_stress", "k0", "sigma_1", "sigma_2", "sigma_3", "principal_rotation_deg",
-      "ms_sxx", "ms_syy", "ms_szz", "ms_sxy", "ms_sxz", "ms_syz", "ms_shear_stress", "coordination_number",
-      "contacts", "mean_contact_force", "porosity", "kinetic_energy", "inertial_number",
-      // uniformity and the study's non-coaxiality (docs/model.md 8.1)
-      "specimen_porosity", "balls_outside", "contacts_within_detection", "mechanical_coordination_number",
-      "strain_rate_direction_deg", "non_coaxiality_deg", "profile_r2", "strain_bottom_third", "strain_middle_third",
-      "strain_top_third", "top_bottom_strain_ratio", "bottom_dx", "bottom_dy", "top_dx", "top_dy"};
-  for (const char* layer : {"bottom", "middle", "top"})
-    for (const char* what : {"stress_ratio", "porosity"}) c.push_back(std::string("layer_") + layer + "_" + what);
-  for (int b = 0; b < bins; ++b) c.push_back("profile_u_" + std::to_string(b + 1));
-  for (int b = 0; b < bins; ++b) c.push_back("profile_porosity_" + std::to_string(b + 1));
-  for (std::size_t k = 0; k < rings; ++k)
-    for (const char* axis : {"dx", "dy"}) c.push_back("ring_" + std::to_string(k + 1) + "_" + axis);
-  return c;
-}
-
 // The ids of the balls (not pebbles), ascending: the order they were added in.
 std::vector<ParticleId> ball_ids(const ParticleStore& p) {
   std::vector<ParticleId> ids;
@@ -62,14 +42,14 @@ std::vector<ParticleId> ball_ids(const ParticleStore& p) {
 }  // namespace
 
 SimpleShearTest::SimpleShearTest(SimpleShearConfig config, std::filesystem::path out_dir, std::ostream& log)
-    : config_(std::move(config)), out_dir_(std::move(out_dir)), log_(log), history_(std::vector<std::string>{"time"}) {
+    : config_(std::move(config)), out_dir_(std::move(out_dir)), log_(log), history_(out_dir_ / "history.csv") {
   config_.validate();
   legs_ = config_.shear.legs();
   require(config_.shear.total_strain() > 0.0, "shear strain", config_.shear.total_strain(), "> 0");
   fabric_ = std::make_unique<FabricLog>(out_dir_ / "fabric.csv");
   snapshots_ = std::make_unique<SnapshotWriter>(out_dir_ / "snapshots");
   build_world();
-  history_ = io::CsvTable(history_columns(world_->clumps().size(), config_.measure.profile_bins), io::Missing::Allowed);
+  add_history_columns();
 }
 
 SimpleShearTest::~SimpleShearTest() = default;
@@ -413,7 +393,7 @@ void SimpleShearTest::shear() {
     detail.precision(4);
     const std::int64_t steps = world_->step_count() - steps_before;
     detail << "strain " << path_.strain() << " of " << config_.shear.total_strain() << ", tau "
-           << (history_.rows().empty() ? 0.0 : history_.rows().back()[history_.column_index("shear_stress")]) / 1e3
+           << history_.last("shear_stress") / 1e3
            << " kPa, sigma_v " << world_->wall(cell_.top).normal_stress() / 1e3 << " kPa, "
            << static_cast<double>(steps) * static_cast<double>(world_->particles().size()) / std::max(elapsed, 1e-9)
            << " particle-steps/s, " << (strain_done > 0 ? elapsed * strain_left / strain_done : 0.0) << " s left";

@@ -50,6 +50,18 @@ void copy_run_files(const std::filesystem::path& from, const std::filesystem::pa
   }
 }
 
+// Pairs of the list whose surfaces are closer than `gap` (m): touching, or about to.
+std::size_t contacts_within_gap(const World& w, ContactKind kind, double gap) {
+  const ParticleStore& p = w.particles();
+  const PairContacts& pairs = w.pair_contacts(kind);
+  std::size_t n = 0;
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    const auto i = static_cast<std::size_t>(pairs.first[k]), j = static_cast<std::size_t>(pairs.second[k]);
+    if ((p.x[j] - p.x[i]).norm() - p.radius[i] - p.radius[j] < gap) ++n;
+  }
+  return n;
+}
+
 bool same_folder(const std::filesystem::path& a, const std::filesystem::path& b) {
   std::error_code error;
   const bool same = std::filesystem::equivalent(a, b, error);
@@ -131,22 +143,75 @@ SpecimenState SimpleShearTest::specimen_state() const {
   return out;
 }
 
+void SimpleShearTest::add_history_columns() {
+  // The state of the row, measured once, read by the columns that follow.
+  history_.before_row([this] { row_ = measure(); });
+  const ShearState& s = row_;
+  auto field = [&](const char* name, const double& value) { history_.add(name, [&value] { return value; }); };
+  auto count = [&](const char* name, const std::size_t& value) { history_.add(name, [&value] { return static_cast<double>(value); }); };
+  // The current leg's direction in the plane of the shear (the last one's once the path is done).
+  auto direction = [this] { return leg_direction(std::min(leg_, legs_.size() - 1)); };
+  auto compression = [&s](int i, int j) { return [&s, i, j] { return -s.sphere.stress(i, j); }; };
+  field("time", s.time);
+  history_.add("step", [this] { return static_cast<double>(world_->step_count()); });
+  history_.add("stage", [this] { return static_cast<double>(stage_); });
+  field("shear_strain_x", s.shear_strain_x);
+  field("shear_strain_y", s.shear_strain_y);
+  field("shear_strain", s.shear_strain);
+  field("shear_stress_x", s.shear_stress_x);
+  field("shear_stress_y", s.shear_stress_y);
+  field("shear_stress", s.shear_stress);
+  field("shear_stress_bottom", s.shear_stress_bottom);
+  field("vertical_stress", s.vertical_stress);
+  field("vertical_stress_bottom", s.vertical_stress_bottom);
+  field("height", s.height);
+  field("volumetric_strain", s.volumetric_strain);
+  field("lateral_stress", s.lateral_stress);
+  history_.add("k0", [&s] { return s.vertical_stress > 0 ? s.lateral_stress / s.vertical_stress : 0.0; });
+  field("sigma_1", s.sphere.principal.sigma_1);
+  field("sigma_2", s.sphere.principal.sigma_2);
+  field("sigma_3", s.sphere.principal.sigma_3);
+  field("principal_rotation_deg", s.principal_rotation_deg);
+  history_.add("ms_sxx", compression(0, 0));
+  history_.add("ms_syy", compression(1, 1));
+  history_.add("ms_szz", compression(2, 2));
+  history_.add("ms_sxy", compression(0, 1));
+  history_.add("ms_sxz", compression(0, 2));
+  history_.add("ms_syz", compression(1, 2));
+  history_.add("ms_shear_stress", [&s, direction] {
+    const Vec3 d = direction();
+    return d.dot(Mat3(-s.sphere.stress) * Vec3::UnitZ());
+  });
+  field("coordination_number", s.sphere.coordination_number);
+  count("contacts", s.contacts);
+  field("mean_contact_force", s.mean_contact_force);
+  field("porosity", s.sphere.porosity);
+  field("kinetic_energy", s.kinetic_energy);
+  history_.add("inertial_number", [this] { return stage_ >= ShearStage::Consolidated ? inertial_number() : 0.0; });
+  // How uniformly it shears, and the study's non-coaxiality (docs/model.md 8.1).
+  field("specimen_porosity", s.specimen_porosity);
+  count("balls_outside", s.balls_outside);
+  // Contacts two ways: active (F_n > 0: "contacts") and within the detection gap.
+  history_.add("contacts_within_detection", [this] {
+    return static_cast<double>(
+        contacts_within_gap(*world_, ContactKind::BallBall, config_.measure.detection_gap_ratio * config_.grading.smallest()));
+  });
+  field("mechanical_coordination_number", s.sphere.mechanical_coordination_number);
+  history_.add("strain_rate_direction_deg", [&s, direction] {
+    const Vec3 d = direction();
+    const Mat3 rate = -s.sphere.strain_rate;  // compression positive
+    return measure::major_direction_deg(d.dot(rate * d), rate(2, 2), d.dot(rate * Vec3::UnitZ()));
+  });
+  history_.add("non_coaxiality_deg", [&s, direction] {
+    return measure::non_coaxiality_deg(Mat3(-s.sphere.stress), Mat3(-s.sphere.strain_rate), direction());
+  });
+  uniformity_ = std::make_unique<UniformityProbe>(*world_, cell_, config_.measure.profile_bins);
+  uniformity_->add_columns(history_, direction);
+  add_ring_columns(history_, *world_, cell_);
+}
+
 void SimpleShearTest::record_history() {
-  const ShearState s = measure();
-  const Mat3 c = -s.sphere.stress;  // compression positive
-  const Vec3 d = leg_direction(std::min(leg_, legs_.size() - 1));
-  std::vector<double> row = {s.time, static_cast<double>(world_->step_count()), static_cast<double>(stage_), s.shear_strain_x,
-                    s.shear_strain_y, s.shear_strain, s.shear_stress_x, s.shear_stress_y, s.shear_stress,
-                    s.shear_stress_bottom, s.vertical_stress, s.vertical_stress_bottom, s.height, s.volumetric_strain,
-                    s.lateral_stress, s.vertical_stress > 0 ? s.lateral_stress / s.vertical_stress : 0.0,
-                    s.sphere.principal.sigma_1, s.sphere.principal.sigma_2, s.sphere.principal.sigma_3,
-                    s.principal_rotation_deg, c(0, 0), c(1, 1), c(2, 2), c(0, 1), c(0, 2), c(1, 2),
-                    d.dot(c * Vec3::UnitZ()), s.sphere.coordination_number, static_cast<double>(s.contacts),
-                    s.mean_contact_force, s.sphere.porosity, s.kinetic_energy, stage_ >= ShearStage::Consolidated ? inertial_number() : 0.0};
-  const std::vector<double> more = uniformity_columns(s);
-  row.insert(row.end(), more.begin(), more.end());
-  history_.add_row(row);
-  history_.save(out_dir_ / "history.csv");
+  history_.record();
   require_no_escape();  // after the row: it shows the state in which the ball was lost
 }
 
@@ -256,7 +321,8 @@ void SimpleShearTest::load_restart(const std::filesystem::path& file, ResumeInte
   if (std::filesystem::is_directory(file, error))
     throw InputError("restart file " + file.string() + " is a folder: give the restart file in it, e.g. " +
                      (file / "consolidated.restart").string() + " or " + (file / "restart.restart").string());
-  build_world();  // walls, rings and contact models as configured; the file supplies the state
+  require(restart_folder_.empty(), "load_restart() a second time", file.string(), "one restart file per test");
+  // The walls, rings and contact models are as configured (the constructor's); the file supplies the state.
   const World as_configured = *world_;
   const std::string protocol = io::load_checkpoint(file, *world_);
   restart_folder_ = std::filesystem::absolute(file).parent_path();
@@ -292,8 +358,8 @@ void SimpleShearTest::write_summary(const std::string& resolved_config_json) con
     j["inertial_number"] = inertial_number();
   }
   // Peak and final values from the history.
-  const auto& rows = history_.rows();
-  auto col = [&](const std::string& name) { return history_.column_index(name); };
+  const auto& rows = history_.table().rows();
+  auto col = [&](const std::string& name) { return history_.table().column_index(name); };
   if (!rows.empty()) {
     std::size_t peak = 0;
     double peak_ratio = -1;
@@ -337,52 +403,18 @@ void SimpleShearTest::write_summary(const std::string& resolved_config_json) con
   // Uniformity of the profile summed over the rows from 20 to 40 % strain (the span of the study's
   // Fig. 7), against uniform simple shear with the top held (docs/model.md 8.1).
   if (!rows.empty() && consolidated_height_ > 0) {
-    const double from = 0.2, to = 0.4;
-    std::vector<double> summed(static_cast<std::size_t>(config_.measure.profile_bins), 0.0);
-    double strain_from = -1, strain_to = -1;
-    std::size_t first_row = 0, last_row = 0;
-    bool complete = true;
-    for (std::size_t r = 1; r < rows.size(); ++r) {
-      const double strain = rows[r][col("shear_strain")];
-      // Rows fall a little past their nominal strains: half an interval of slack on both ends.
-      const double slack = 0.5 * config_.output.every_strain;
-      if (strain <= from + slack || strain > to + slack) continue;
-      if (strain_from < 0) strain_from = rows[r - 1][col("shear_strain")], first_row = r;
-      strain_to = strain;
-      last_row = r;
-      for (int b = 0; b < config_.measure.profile_bins; ++b) {
-        const double u = rows[r][col("profile_u_" + std::to_string(b + 1))];
-        if (std::isnan(u)) complete = false;
-        summed[static_cast<std::size_t>(b)] += u;
-      }
-    }
-    if (strain_to > strain_from && strain_from >= 0) {
-      measure::DisplacementProfile profile;
-      const double height = rows.back()[col("height")];
-      for (int b = 0; b < config_.measure.profile_bins; ++b) {
-        const double z = (b + 0.5) * height / config_.measure.profile_bins;
-        profile.z_centre.push_back(z);
-        profile.z_mean.push_back(z);
-        const double u = summed[static_cast<std::size_t>(b)];
-        profile.mean_displacement.push_back(u);  // NaN where a bin had no ball at some row
-        profile.count.push_back(std::isnan(u) ? 0 : 1);
-      }
-      // The plates' displacements along the last leg over the span (the top moves too with
-      // shear.moving_plate = both).
-      const Vec3 d = leg_direction(legs_.size() - 1);
-      auto plate = [&](std::size_t r, const char* x, const char* y) { return Vec3(rows[r][col(x)], rows[r][col(y)], 0.0).dot(d); };
-      const double u_bottom = plate(last_row, "bottom_dx", "bottom_dy") - plate(first_row - 1, "bottom_dx", "bottom_dy");
-      const double u_top = plate(last_row, "top_dx", "top_dy") - plate(first_row - 1, "top_dx", "top_dy");
-      const measure::ShearUniformity uniformity = measure::shear_uniformity(profile, 0.0, height, u_bottom, u_top);
+    const SpanUniformity span = span_uniformity(history_.table(), config_.measure.profile_bins, 0.2, 0.4,
+                                                config_.output.every_strain, leg_direction(legs_.size() - 1));
+    if (span.found) {
       io::Json u;
-      u["from_shear_strain"] = strain_from;
-      u["to_shear_strain"] = strain_to;
-      u["profile_r2"] = uniformity.r_squared;
-      u["strain_bottom_third"] = uniformity.bottom_third_strain;
-      u["strain_middle_third"] = uniformity.middle_third_strain;
-      u["strain_top_third"] = uniformity.top_third_strain;
-      u["top_bottom_strain_ratio"] = uniformity.top_bottom_strain_ratio;
-      u["every_bin_has_balls"] = complete;
+      u["from_shear_strain"] = span.from_strain;
+      u["to_shear_strain"] = span.to_strain;
+      u["profile_r2"] = span.uniformity.r_squared;
+      u["strain_bottom_third"] = span.uniformity.bottom_third_strain;
+      u["strain_middle_third"] = span.uniformity.middle_third_strain;
+      u["strain_top_third"] = span.uniformity.top_third_strain;
+      u["top_bottom_strain_ratio"] = span.uniformity.top_bottom_strain_ratio;
+      u["every_bin_has_balls"] = span.every_bin_has_balls;
       j["uniformity"] = u;
     }
   }

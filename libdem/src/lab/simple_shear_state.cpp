@@ -115,7 +115,7 @@ std::string SimpleShearTest::protocol_state() const {
   j["previous_relative_y"] = path_.offset().y();
   j["wall_seconds"] = wall_seconds_;
   j["steps_at_shear_start"] = steps_at_shear_start_;
-  j["history_rows"] = history_.rows().size();
+  j["history_rows"] = history_.rows();
   j["servo"] = servo_ != nullptr;
   j["servo_holding"] = servo_ && servo_->holding_position();
   if (servo_) {
@@ -134,7 +134,8 @@ std::string SimpleShearTest::protocol_state() const {
   j["rolling_friction_now"] = rolling_friction_now_;
   j["consolidating"] = consolidating_;
   j["consolidation_start_step"] = consolidation_start_step_;
-  for (const auto& [end, x] : {std::pair{"bottom", &profile_bottom_}, std::pair{"top", &profile_top_}}) {
+  const ProfileInterval& interval = uniformity_->interval();
+  for (const auto& [end, x] : {std::pair{"bottom", &interval.bottom}, std::pair{"top", &interval.top}}) {
     const std::string name = std::string("profile_") + end;
     j[name + "_x"] = x->x();
     j[name + "_y"] = x->y();
@@ -157,7 +158,7 @@ std::string SimpleShearTest::protocol_state() const {
   for (const auto& [key, value] : configuration_) record[key] = value;
   // Last: the positions that start the current profile interval, by ball id (null for pebbles).
   io::Json& reference = j["profile_reference"] = io::Json::array();
-  for (const Vec3& x : profile_reference_) reference.push_back({x.x(), x.y(), x.z()});
+  for (const Vec3& x : interval.positions) reference.push_back({x.x(), x.y(), x.z()});
   // One line: a 1D specimen has 10^5 reference positions. Invalid UTF-8 in a text is replaced, not
   // thrown on in the middle of a run.
   return j.dump(-1, ' ', false, io::Json::error_handler_t::replace) + "\n";
@@ -168,7 +169,8 @@ void SimpleShearTest::restore_protocol_state(const std::string& text) {
   StateRecord record = first != std::string::npos && text[first] == '{' ? read_json_state(text) : read_line_state(text);
   const std::map<std::string, double>& v = record.values;
   file_configuration_ = std::move(record.configuration);
-  profile_reference_ = std::move(record.profile_reference);
+  ProfileInterval interval;
+  interval.positions = std::move(record.profile_reference);
   auto get = [&](const std::string& k) {
     const auto it = v.find(k);
     if (it == v.end()) throw InputError("restart file: protocol state has no '" + k + "'");
@@ -188,9 +190,10 @@ void SimpleShearTest::restore_protocol_state(const std::string& text) {
   wall_seconds_ = get("wall_seconds");
   steps_at_shear_start_ = static_cast<std::int64_t>(get("steps_at_shear_start"));
   if (v.count("profile_bottom_x")) {
-    profile_bottom_ = Vec3(get("profile_bottom_x"), get("profile_bottom_y"), get("profile_bottom_z"));
-    profile_top_ = Vec3(get("profile_top_x"), get("profile_top_y"), get("profile_top_z"));
+    interval.bottom = Vec3(get("profile_bottom_x"), get("profile_bottom_y"), get("profile_bottom_z"));
+    interval.top = Vec3(get("profile_top_x"), get("profile_top_y"), get("profile_top_z"));
   }
+  uniformity_->resume_interval(std::move(interval));
   // Files written before these were recorded leave them NaN.
   auto optional = [&](const std::string& k) {
     const auto it = v.find(k);
@@ -202,25 +205,8 @@ void SimpleShearTest::restore_protocol_state(const std::string& text) {
               optional(n + "_mechanical_coordination"), optional(n + "_vertical_stress"), optional(n + "_k0"),
               optional(n + "_height"), optional(n + "_friction"), optional(n + "_rolling_friction")};
   }
-  const auto rows = static_cast<std::size_t>(get("history_rows"));
   // Keep the history written up to the restart point; later rows belong to the run that stopped.
-  history_ = io::CsvTable(history_.columns(), io::Missing::Allowed);
-  if (rows > 0) {
-    const io::CsvData old = io::read_csv(restart_folder_ / "history.csv", io::Missing::Allowed);
-    require(old.rows.size() >= rows, "history.csv rows", old.rows.size(), ">= " + std::to_string(rows) + " (as in the restart file)");
-    // Columns by name: a history written before a column existed gets nan in it.
-    std::vector<std::ptrdiff_t> source;
-    for (const std::string& name : history_.columns()) {
-      const auto it = std::find(old.columns.begin(), old.columns.end(), name);
-      source.push_back(it == old.columns.end() ? -1 : it - old.columns.begin());
-    }
-    for (std::size_t r = 0; r < rows; ++r) {
-      std::vector<double> row;
-      for (std::ptrdiff_t c : source)
-        row.push_back(c < 0 ? std::numeric_limits<double>::quiet_NaN() : old.rows[r][static_cast<std::size_t>(c)]);
-      history_.add_row(row);
-    }
-  }
+  history_.resume(restart_folder_ / "history.csv", static_cast<std::size_t>(get("history_rows")));
   if (get("servo") > 0) {
     ServoSettings settings = servo_settings();
     if (v.count("servo_target")) settings.target_stress = get("servo_target"), settings.max_speed = get("servo_max_speed");

@@ -7,6 +7,7 @@
 #include <cstddef>
 
 #include <dem/core/world.hpp>
+#include <dem/lab/history_log.hpp>
 
 namespace dem::lab {
 
@@ -64,5 +65,9 @@ void move_rings(World& world, const ShearCell& cell, bool specimen_made);
 /// and y (their vertical velocity is set by move_rings, or zero for Fixed), Free rings in x, y and
 /// z; Prescribed rings stay held, moved only by move_rings.
 void release_rings(World& world, const ShearCell& cell);
+
+/// Adds each ring's horizontal displacement since it was built (m) to `log`: ring_1_dx, ring_1_dy,
+/// ring_2_dx, ... from the bottom ring up.
+void add_ring_columns(HistoryLog& log, const World& world, const ShearCell& cell);
 
 }  // namespace dem::lab

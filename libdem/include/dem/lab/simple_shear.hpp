@@ -40,13 +40,14 @@
 #include <dem/control/servo_wall.hpp>
 #include <dem/core/world.hpp>
 #include <dem/io/config.hpp>
-#include <dem/io/csv.hpp>
 #include <dem/io/output_folder.hpp>
-#include <dem/lab/resume_rules.hpp>
+#include <dem/lab/history_log.hpp>
 #include <dem/lab/radius_expansion.hpp>
+#include <dem/lab/resume_rules.hpp>
 #include <dem/lab/shear_cell.hpp>
 #include <dem/lab/shear_leg.hpp>
 #include <dem/lab/simple_shear_config.hpp>
+#include <dem/lab/uniformity_probe.hpp>
 #include <dem/measure/measurement_sphere.hpp>
 
 namespace dem::lab {
@@ -132,6 +133,7 @@ class SimpleShearTest {
   /// built from the struct alone) only the specimen checks of load_restart apply.
   void record_configuration(const io::Config& resolved);
   /// Continues from a restart file: anywhere in the generation, the consolidation or the shear.
+  /// Once per test, before any stage has run.
   /// When both the file and this run have a recorded configuration, a key that changes what is
   /// already done (docs/restart.md: geometry, grading, densities, contact parameters and engine
   /// keys of the stages already run, the time step) is refused with an InputError that names every
@@ -211,9 +213,10 @@ class SimpleShearTest {
   /// The generation's diameters, drawn from `rng` (seeded with specimen.seed).
   std::vector<double> target_diameters(std::mt19937_64& rng) const;
   void apply_restart_keys(const World& as_configured, const std::filesystem::path& file);
+  /// Registers the history's columns: the state of the row (measure()), the uniformity probe's,
+  /// the rings' displacements.
+  void add_history_columns();
   void record_history();
-  /// The history columns past ShearState's: uniformity, layers, non-coaxiality, rings.
-  std::vector<double> uniformity_columns(const ShearState& s);
   void record_outputs(bool force);
   void maybe_save_restart();
   void open_outputs_if_needed() {
@@ -251,14 +254,12 @@ class SimpleShearTest {
   std::int64_t consolidation_start_step_ = 0;
   double friction_now_ = 0.0, rolling_friction_now_ = 0.0;  // ball-ball, as set
   SpecimenState generated_state_, consolidated_state_;
-  // Positions at the last history row (by ball id; pebbles NaN) and the plates' displacements
-  // then: the start of the interval of the displacement profile. Empty before the first row.
-  std::vector<Vec3> profile_reference_;
-  Vec3 profile_bottom_ = Vec3::Zero(), profile_top_ = Vec3::Zero();
   ShearCell cell_;                     // plates and rings
   std::unique_ptr<FabricLog> fabric_;
   std::unique_ptr<SnapshotWriter> snapshots_;
-  io::CsvTable history_;
+  HistoryLog history_;                 // history.csv
+  std::unique_ptr<UniformityProbe> uniformity_;  // columns of history_
+  ShearState row_;                     // measured for the history row being written
 
   ShearStage stage_ = ShearStage::Empty;
   std::size_t ball_count_ = 0;
