@@ -8,11 +8,11 @@
 #include <ostream>
 #include <random>
 
-#include <dem/contact/linear_law.hpp>
 #include <dem/core/errors.hpp>
 #include <dem/lab/consolidation.hpp>
 #include <dem/lab/fabric_log.hpp>
 #include <dem/lab/friction_schedule.hpp>
+#include <dem/lab/simple_shear_parts.hpp>
 #include <dem/lab/snapshots.hpp>
 
 namespace dem::lab {
@@ -21,13 +21,6 @@ namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-RollingLinearLaw::Params law_params(const ContactTypeConfig& c, double friction, double rolling_friction) {
-  auto p = RollingLinearLaw::Params::deformable(c.effective_modulus, c.stiffness_ratio, friction, rolling_friction);
-  p.normal_damping_ratio = c.normal_damping_ratio;
-  p.shear_damping_ratio = c.shear_damping_ratio;
-  return p;
 }
 
 // The ids of the balls (not pebbles), ascending: the order they were added in.
@@ -55,25 +48,8 @@ SimpleShearTest::SimpleShearTest(SimpleShearConfig config, std::filesystem::path
 SimpleShearTest::~SimpleShearTest() = default;
 
 void SimpleShearTest::build_world() {
-  WorldSettings s;
-  s.local_damping = config_.engine.local_damping;
-  s.time_step = config_.engine.time_step;
-  s.time_step_safety = config_.engine.time_step_safety;
-  s.max_overlap_ratio = config_.engine.max_overlap_ratio;
-  s.threads = config_.engine.threads;
-  world_ = std::make_unique<World>(s);
-  ShearCellSpec cell;
-  cell.diameter = config_.specimen.diameter;
-  cell.height = config_.specimen.height;
-  cell.pebble_diameter = config_.rings.pebble_diameter > 0 ? config_.rings.pebble_diameter : config_.grading.smallest();
-  cell.ring_gap = config_.rings.gap > 0 ? config_.rings.gap : 0.05 * cell.pebble_diameter;
-  cell.ring_density = config_.rings.density;
-  // Fixed rings cannot follow a dilating specimen: their stack is built with room above it.
-  cell.stack_height = config_.rings.stack_height > 0 ? config_.rings.stack_height
-                      : config_.rings.vertical == RingVertical::Fixed ? 1.1 * cell.height : cell.height;
-  cell.max_opening = config_.grading.smallest();
-  cell.rings = config_.rings.vertical;
-  cell_ = build_shear_cell(*world_, cell);
+  world_ = std::make_unique<World>(world_settings(config_));
+  cell_ = build_shear_cell(*world_, shear_cell_spec(config_));
   set_contact_models(config_.ball_ball.friction, config_.ball_ball.rolling_friction, false);
   servo_.reset();
   world_->add_controller([this](World& w) { control(w); });
@@ -82,16 +58,7 @@ void SimpleShearTest::build_world() {
 void SimpleShearTest::set_contact_models(double friction, double rolling_friction, bool growing, ModelChange change) {
   friction_now_ = friction;
   rolling_friction_now_ = rolling_friction;
-  auto set = [&](ContactKind kind, std::shared_ptr<const ContactModel> model) {
-    if (change == ModelChange::KeepContacts) world_->retune_contact_model(kind, std::move(model));
-    else world_->set_contact_model(kind, std::move(model));
-  };
-  set(ContactKind::BallBall, make_contact_model<RollingLinearLaw>(law_params(config_.ball_ball, friction, rolling_friction), "ball_ball"));
-  auto boundary = [&](const ContactTypeConfig& c) {
-    return growing ? law_params(c, 0.0, 0.0) : law_params(c, c.friction, c.rolling_friction);
-  };
-  set(ContactKind::BallFacet, make_contact_model<RollingLinearLaw>(boundary(config_.ball_facet), "ball_facet"));
-  set(ContactKind::BallPebble, make_contact_model<RollingLinearLaw>(boundary(config_.ball_pebble), "ball_pebble"));
+  set_contact_laws(*world_, config_, friction, rolling_friction, growing, change);
 }
 
 void SimpleShearTest::control(World& w) {
@@ -107,11 +74,6 @@ void SimpleShearTest::control(World& w) {
   move_rings(w, cell_, stage_ >= ShearStage::Generated);
 }
 
-std::vector<double> SimpleShearTest::target_diameters(std::mt19937_64& rng) const {
-  const double radius = config_.specimen.diameter / 2;
-  return sample_diameters(config_.grading, (1.0 - config_.specimen.porosity) * pi * radius * radius * config_.specimen.height, rng);
-}
-
 void SimpleShearTest::generate() {
   require(stage_ == ShearStage::Empty, "generate() stage", static_cast<int>(stage_), "0 (empty world)");
   open_outputs_if_needed();
@@ -119,7 +81,7 @@ void SimpleShearTest::generate() {
   const double radius = config_.specimen.diameter / 2, height = config_.specimen.height;
   const double cavity = pi * radius * radius * height;
   std::mt19937_64 rng(config_.specimen.seed);  // the diameters, then the positions
-  const std::vector<double> diameters = target_diameters(rng);
+  const std::vector<double> diameters = specimen_diameters(config_, rng);
   double solid = 0.0;
   for (double d : diameters) solid += pi / 6 * d * d * d;
   RadiusExpansion expansion;
@@ -305,12 +267,8 @@ void SimpleShearTest::reconsolidate() {
 }
 
 ServoSettings SimpleShearTest::servo_settings() const {
-  ServoSettings servo;
-  servo.target_stress = config_.consolidation.vertical_stress;
-  servo.relaxation = config_.consolidation.servo_relaxation;
-  servo.max_speed = stage_ >= ShearStage::Consolidated ? shear_servo_speed() : config_.consolidation.servo_max_speed;
-  servo.settle_tolerance = config_.consolidation.tolerance;
-  servo.settle_steps = static_cast<int>(config_.consolidation.settle_steps);
+  ServoSettings servo = consolidation_servo(config_);
+  if (stage_ >= ShearStage::Consolidated) servo.max_speed = shear_servo_speed();
   return servo;
 }
 

@@ -47,6 +47,7 @@
 #include <dem/lab/shear_cell.hpp>
 #include <dem/lab/shear_leg.hpp>
 #include <dem/lab/simple_shear_config.hpp>
+#include <dem/lab/simple_shear_parts.hpp>
 #include <dem/lab/uniformity_probe.hpp>
 #include <dem/measure/measurement_sphere.hpp>
 
@@ -199,7 +200,6 @@ class SimpleShearTest {
 
  private:
   void build_world();
-  enum class ModelChange { Rebuild, KeepContacts };
   /// Ball-ball with the given friction (the plates and rings frictionless while `growing`).
   /// KeepContacts: the same laws with these parameters, the contact lists left as they are.
   void set_contact_models(double friction, double rolling_friction, bool growing, ModelChange change = ModelChange::Rebuild);
@@ -210,8 +210,6 @@ class SimpleShearTest {
   /// Steps the settle of the generation (generation.steps_per_stage at most) until `done`.
   void settle_generation(const std::function<bool()>& done);
   void expand_radii(const RadiusExpansion& expansion);
-  /// The generation's diameters, drawn from `rng` (seeded with specimen.seed).
-  std::vector<double> target_diameters(std::mt19937_64& rng) const;
   void apply_restart_keys(const World& as_configured, const std::filesystem::path& file);
   /// Registers the history's columns: the state of the row (measure()), the uniformity probe's,
   /// the rings' displacements.
