@@ -21,7 +21,8 @@ using namespace dem;
 using namespace dem::lab;
 using Catch::Matchers::Contains;
 
-TEST_CASE("history log: columns in the order registered, one measurement per row, the file as the table", "[lab][history]") {
+TEST_CASE("history log: columns in the order registered, one measurement per row, the file as the table",
+          "[lab][history]") {
   dem::testing::TempDir dir("history_log");
   HistoryLog log(dir.path / "history.csv");
   double now = 0.0;
@@ -78,7 +79,8 @@ TEST_CASE("history log: a resumed log keeps the rows up to the restart point, by
   CHECK_THROWS_WITH(log.resume(dir.path / "old.csv", 5), Contains(">= 5"));
 }
 
-TEST_CASE("uniformity probe: uniform simple shear gives R^2 = 1 and the plate strain in every third", "[lab][history]") {
+TEST_CASE("uniformity probe: uniform simple shear gives R^2 = 1 and the plate strain in every third",
+          "[lab][history]") {
   dem::testing::TempDir dir("history_log");
   WorldSettings settings;
   settings.time_step = 1e-5;  // s
@@ -99,7 +101,9 @@ TEST_CASE("uniformity probe: uniform simple shear gives R^2 = 1 and the plate st
     for (int i = -2; i <= 2; ++i)
       for (int j = -2; j <= 2; ++j) {
         const double z = 0.25e-3 + k * 0.5e-3;  // m, two layers per 1 mm bin, none on an edge
-        world.add_ball({.position = Vec3(1e-3 * i, 1e-3 * j, z), .radius = 1e-4, .density = 2650.0,
+        world.add_ball({.position = Vec3(1e-3 * i, 1e-3 * j, z),
+                        .radius = 1e-4,
+                        .density = 2650.0,
                         .velocity = Vec3(speed * (1 - z / height), 0, 0)});
       }
   world.wall(cell.bottom).velocity = Vec3(speed, 0, 0);

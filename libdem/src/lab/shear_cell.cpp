@@ -1,5 +1,6 @@
 #include <dem/lab/shear_cell.hpp>
 
+#include <algorithm>
 #include <vector>
 
 #include <dem/boundary/clump_ring.hpp>
@@ -98,6 +99,20 @@ void release_rings(World& world, const ShearCell& cell) {
     ring.fixed = fixed;
     if (cell.rings == RingVertical::Fixed) ring.v.z() = 0.0;
   }
+}
+
+void keep_plate_gap(World& world, const ShearCell& cell, double min_gap) {
+  FacetWall& top = world.wall(cell.top);
+  const double room = cell.plate_gap(world) - min_gap;  // m, >= 0
+  top.velocity.z() = std::max(top.velocity.z(), -room / world.time_step());
+}
+
+double specimen_porosity(const World& world, const ShearCell& cell) {
+  const ParticleStore& p = world.particles();
+  double solid = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (!p.is_pebble(i)) solid += 4.0 / 3.0 * pi * p.radius[i] * p.radius[i] * p.radius[i];
+  return 1.0 - solid / (cell.area * cell.plate_gap(world));
 }
 
 void add_ring_columns(HistoryLog& log, const World& world, const ShearCell& cell) {

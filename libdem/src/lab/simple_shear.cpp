@@ -63,14 +63,7 @@ void SimpleShearTest::set_contact_models(double friction, double rolling_frictio
 
 void SimpleShearTest::control(World& w) {
   if (servo_) (*servo_)(w);
-  if (generation_floor_) {
-    // While the radii grow, the servo may lift the plate but never lower it below the specimen
-    // height: a plate that chased the stress into the loose half-size balls would pack them at
-    // the bottom of the cavity.
-    FacetWall& top = w.wall(cell_.top);
-    const double room = cell_.plate_gap(w) - config_.specimen.height;  // m, >= 0
-    top.velocity.z() = std::max(top.velocity.z(), -room / w.time_step());
-  }
+  if (generation_floor_) keep_plate_gap(w, cell_, config_.specimen.height);  // the radii grow in the cavity
   move_rings(w, cell_, stage_ >= ShearStage::Generated);
 }
 
@@ -104,10 +97,7 @@ void SimpleShearTest::generate() {
     // plate the specimen grows against a low stress instead of a closed cavity.
     set_contact_models(config_.generation_friction(), config_.generation_rolling_friction(), true);
     if (config_.generation.plate == GenerationPlate::Servo) {
-      ServoSettings servo = servo_settings();
-      servo.target_stress = config_.generation.stress;
-      servo.max_speed = config_.generation.servo_max_speed;
-      servo_ = std::make_shared<ServoWall>(cell_.top, servo);
+      servo_ = std::make_shared<ServoWall>(cell_.top, generation_servo(config_));
       generation_floor_ = true;
     }
     generating_ = true;
@@ -182,11 +172,7 @@ void SimpleShearTest::friction_schedule() {
     settle_generation(settled);
     g.phase = GenerationProgress::Reducing;
   }
-  FrictionSchedule schedule;
-  schedule.target_porosity = config_.specimen.porosity;
-  schedule.porosity_tolerance = config_.generation.porosity_tolerance;
-  schedule.reduction = config_.generation.friction_reduction;
-  schedule.floor = 1e-2 * std::max(config_.generation_friction(), config_.generation_rolling_friction());
+  const FrictionSchedule schedule = generation_friction_schedule(config_);
   while (true) {
     if (g.phase == GenerationProgress::Reducing) {
       const std::optional<Friction> next = next_friction(schedule, specimen_state().porosity, {friction_now_, rolling_friction_now_});
@@ -218,12 +204,7 @@ void SimpleShearTest::consolidate() {
   require(stage_ == ShearStage::Generated, "consolidate() stage", static_cast<int>(stage_), "1 (generated)");
   open_outputs_if_needed();
   const auto t0 = std::chrono::steady_clock::now();
-  ConsolidationTarget target;
-  target.stress = config_.consolidation.vertical_stress;
-  target.servo_max_speed = config_.consolidation.servo_max_speed;
-  target.equilibrium_ratio = config_.generation.equilibrium_ratio;
-  target.max_steps = config_.consolidation.max_steps;
-  target.chunk_steps = chunk_steps;
+  const ConsolidationTarget target = consolidation_target(config_, chunk_steps);
   if (!consolidating_) {
     if (!servo_) servo_ = std::make_shared<ServoWall>(cell_.top, servo_settings());
     start_consolidation(*servo_, target);
@@ -273,41 +254,21 @@ ServoSettings SimpleShearTest::servo_settings() const {
 }
 
 double SimpleShearTest::shear_servo_speed() const {
-  if (config_.shear.servo_max_speed > 0.0) return config_.shear.servo_max_speed;
-  return std::max(config_.consolidation.servo_max_speed, shear_rate() * consolidated_height_);
-}
-
-double SimpleShearTest::mean_diameter() const {
-  const ParticleStore& p = world_->particles();
-  double sum = 0.0;
-  std::size_t n = 0;
-  for (std::size_t i = 0; i < p.size(); ++i)
-    if (!p.is_pebble(i)) sum += 2 * p.radius[i], ++n;
-  return n > 0 ? sum / static_cast<double>(n) : config_.grading.largest();
+  return lab::shear_servo_speed(config_, shear_rate(), consolidated_height_);
 }
 
 Vec3 SimpleShearTest::leg_direction(std::size_t leg) const {
   return horizontal_direction(legs_.at(leg).direction_deg);
 }
 
-double SimpleShearTest::shear_rate() const {
-  if (config_.shear.strain_rate > 0.0) return config_.shear.strain_rate;
-  // I = gamma_dot d_mean sqrt(rho / p) (docs/model.md 3.4)
-  return config_.shear.inertial_number / (mean_diameter() * std::sqrt(config_.specimen.density / config_.consolidation.vertical_stress));
-}
+double SimpleShearTest::shear_rate() const { return shear_strain_rate(config_, *world_); }
 
 double SimpleShearTest::inertial_number() const {
-  return shear_rate() * mean_diameter() * std::sqrt(config_.specimen.density / config_.consolidation.vertical_stress);
+  return shear_rate() * mean_ball_diameter(*world_, config_.grading.largest()) * std::sqrt(config_.specimen.density / config_.consolidation.vertical_stress);
 }
 
 void SimpleShearTest::start_leg() {
-  ShearLegMotion motion;
-  motion.direction_deg = legs_.at(leg_).direction_deg;
-  motion.speed = shear_rate() * consolidated_height_;  // m/s of the bottom plate relative to the top
-  motion.mode = config_.shear.mode;
-  motion.moving_plate = config_.shear.moving_plate;
-  motion.servo_max_speed = shear_servo_speed();
-  start_shear_leg(*world_, cell_, *servo_, motion);
+  start_shear_leg(*world_, cell_, *servo_, shear_leg_motion(config_, legs_.at(leg_).direction_deg, shear_rate(), consolidated_height_));
 }
 
 void SimpleShearTest::shear() {

@@ -96,7 +96,6 @@ ShearState SimpleShearTest::measure() const {
   s.lateral_stress = ring_lateral_stress(w, cell_);
   double mean_force = 0.0;
   std::size_t contacts = 0;
-  const ParticleStore& p = w.particles();
   w.for_each_contact([&](const ContactView& c) {
     if (c.kind != ContactKind::BallBall) return;
     mean_force += c.normal_force;
@@ -105,10 +104,7 @@ ShearState SimpleShearTest::measure() const {
   s.contacts = contacts;
   s.mean_contact_force = contacts > 0 ? mean_force / static_cast<double>(contacts) : 0.0;
   s.kinetic_energy = w.kinetic_energy();
-  double solid = 0.0;
-  for (std::size_t i = 0; i < p.size(); ++i)
-    if (!p.is_pebble(i)) solid += 4.0 / 3.0 * pi * p.radius[i] * p.radius[i] * p.radius[i];
-  s.specimen_porosity = 1.0 - solid / (cell_.area * s.height);
+  s.specimen_porosity = specimen_porosity(w, cell_);
   s.balls_outside = balls_outside();
 
   // The probe sits at mid-height and follows the specimen's mean horizontal displacement.

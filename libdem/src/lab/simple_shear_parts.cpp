@@ -1,5 +1,8 @@
 #include <dem/lab/simple_shear_parts.hpp>
 
+#include <algorithm>
+#include <cmath>
+
 namespace dem::lab {
 
 WorldSettings world_settings(const SimpleShearConfig& config) {
@@ -19,8 +22,9 @@ ShearCellSpec shear_cell_spec(const SimpleShearConfig& config) {
   cell.pebble_diameter = config.rings.pebble_diameter > 0 ? config.rings.pebble_diameter : config.grading.smallest();
   cell.ring_gap = config.rings.gap > 0 ? config.rings.gap : 0.05 * cell.pebble_diameter;
   cell.ring_density = config.rings.density;
-  cell.stack_height = config.rings.stack_height > 0 ? config.rings.stack_height
-                      : config.rings.vertical == RingVertical::Fixed ? 1.1 * cell.height : cell.height;
+  cell.stack_height = config.rings.stack_height > 0                  ? config.rings.stack_height
+                      : config.rings.vertical == RingVertical::Fixed ? 1.1 * cell.height
+                                                                     : cell.height;
   cell.max_opening = config.grading.smallest();
   cell.rings = config.rings.vertical;
   return cell;
@@ -33,13 +37,16 @@ RollingLinearLaw::Params contact_law(const ContactTypeConfig& c, double friction
   return p;
 }
 
-void set_contact_laws(World& world, const SimpleShearConfig& config, double friction, double rolling_friction, bool growing,
-                      ModelChange change) {
+void set_contact_laws(World& world, const SimpleShearConfig& config, double friction, double rolling_friction,
+                      bool growing, ModelChange change) {
   auto set = [&](ContactKind kind, std::shared_ptr<const ContactModel> model) {
-    if (change == ModelChange::KeepContacts) world.retune_contact_model(kind, std::move(model));
-    else world.set_contact_model(kind, std::move(model));
+    if (change == ModelChange::KeepContacts)
+      world.retune_contact_model(kind, std::move(model));
+    else
+      world.set_contact_model(kind, std::move(model));
   };
-  set(ContactKind::BallBall, make_contact_model<RollingLinearLaw>(contact_law(config.ball_ball, friction, rolling_friction), "ball_ball"));
+  set(ContactKind::BallBall,
+      make_contact_model<RollingLinearLaw>(contact_law(config.ball_ball, friction, rolling_friction), "ball_ball"));
   auto boundary = [&](const ContactTypeConfig& c) {
     return growing ? contact_law(c, 0.0, 0.0) : contact_law(c, c.friction, c.rolling_friction);
   };
@@ -49,7 +56,8 @@ void set_contact_laws(World& world, const SimpleShearConfig& config, double fric
 
 std::vector<double> specimen_diameters(const SimpleShearConfig& config, std::mt19937_64& rng) {
   const double radius = config.specimen.diameter / 2;
-  return sample_diameters(config.grading, (1.0 - config.specimen.porosity) * pi * radius * radius * config.specimen.height, rng);
+  return sample_diameters(config.grading,
+                          (1.0 - config.specimen.porosity) * pi * radius * radius * config.specimen.height, rng);
 }
 
 ServoSettings consolidation_servo(const SimpleShearConfig& config) {
@@ -60,6 +68,63 @@ ServoSettings consolidation_servo(const SimpleShearConfig& config) {
   servo.settle_tolerance = config.consolidation.tolerance;
   servo.settle_steps = static_cast<int>(config.consolidation.settle_steps);
   return servo;
+}
+
+ServoSettings generation_servo(const SimpleShearConfig& config) {
+  ServoSettings servo = consolidation_servo(config);
+  servo.target_stress = config.generation.stress;
+  servo.max_speed = config.generation.servo_max_speed;
+  return servo;
+}
+
+FrictionSchedule generation_friction_schedule(const SimpleShearConfig& config) {
+  FrictionSchedule schedule;
+  schedule.target_porosity = config.specimen.porosity;
+  schedule.porosity_tolerance = config.generation.porosity_tolerance;
+  schedule.reduction = config.generation.friction_reduction;
+  schedule.floor = 1e-2 * std::max(config.generation_friction(), config.generation_rolling_friction());
+  return schedule;
+}
+
+ConsolidationTarget consolidation_target(const SimpleShearConfig& config, std::int64_t chunk_steps) {
+  ConsolidationTarget target;
+  target.stress = config.consolidation.vertical_stress;
+  target.servo_max_speed = config.consolidation.servo_max_speed;
+  target.equilibrium_ratio = config.generation.equilibrium_ratio;
+  target.max_steps = config.consolidation.max_steps;
+  target.chunk_steps = chunk_steps;
+  return target;
+}
+
+double mean_ball_diameter(const World& world, double fallback) {
+  const ParticleStore& p = world.particles();
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (!p.is_pebble(i)) sum += 2 * p.radius[i], ++n;
+  return n > 0 ? sum / static_cast<double>(n) : fallback;
+}
+
+double shear_strain_rate(const SimpleShearConfig& config, const World& world) {
+  if (config.shear.strain_rate > 0.0) return config.shear.strain_rate;
+  const double d_mean = mean_ball_diameter(world, config.grading.largest());
+  return config.shear.inertial_number /
+         (d_mean * std::sqrt(config.specimen.density / config.consolidation.vertical_stress));
+}
+
+double shear_servo_speed(const SimpleShearConfig& config, double rate, double height) {
+  if (config.shear.servo_max_speed > 0.0) return config.shear.servo_max_speed;
+  return std::max(config.consolidation.servo_max_speed, rate * height);
+}
+
+ShearLegMotion shear_leg_motion(const SimpleShearConfig& config, double direction_deg, double rate, double height) {
+  ShearLegMotion motion;
+  motion.direction_deg = direction_deg;
+  motion.speed = rate * height;  // m/s of the bottom plate relative to the top
+  motion.mode = config.shear.mode;
+  motion.moving_plate = config.shear.moving_plate;
+  motion.servo_max_speed = shear_servo_speed(config, rate, height);
+  return motion;
 }
 
 }  // namespace dem::lab

@@ -31,8 +31,15 @@ Layer layer_at(const World& w, const Vec3& centre, double radius, const Vec3& d)
 }
 
 std::vector<std::string> probe_columns(int bins) {
-  std::vector<std::string> c = {"profile_r2", "strain_bottom_third", "strain_middle_third", "strain_top_third",
-                                "top_bottom_strain_ratio", "bottom_dx", "bottom_dy", "top_dx", "top_dy"};
+  std::vector<std::string> c = {"profile_r2",
+                                "strain_bottom_third",
+                                "strain_middle_third",
+                                "strain_top_third",
+                                "top_bottom_strain_ratio",
+                                "bottom_dx",
+                                "bottom_dy",
+                                "top_dx",
+                                "top_dy"};
   for (const char* layer : {"bottom", "middle", "top"})
     for (const char* what : {"stress_ratio", "porosity"}) c.push_back(std::string("layer_") + layer + "_" + what);
   for (int b = 0; b < bins; ++b) c.push_back("profile_u_" + std::to_string(b + 1));
@@ -42,12 +49,14 @@ std::vector<std::string> probe_columns(int bins) {
 
 }  // namespace
 
-UniformityProbe::UniformityProbe(const World& world, const ShearCell& cell, int bins) : world_(world), cell_(cell), bins_(bins) {
+UniformityProbe::UniformityProbe(const World& world, const ShearCell& cell, int bins)
+    : world_(world), cell_(cell), bins_(bins) {
   require(bins >= 3, "profile bins", bins, ">= 3");
 }
 
 void UniformityProbe::add_columns(HistoryLog& log, std::function<Vec3()> direction) {
-  log.add(probe_columns(bins_), [this, direction = std::move(direction)](std::vector<double>& row) { measure(direction(), row); });
+  log.add(probe_columns(bins_),
+          [this, direction = std::move(direction)](std::vector<double>& row) { measure(direction(), row); });
 }
 
 void UniformityProbe::measure(const Vec3& d, std::vector<double>& out) {
@@ -68,7 +77,8 @@ void UniformityProbe::measure(const Vec3& d, std::vector<double>& out) {
       u.push_back((p.x[i] - x0).dot(d));
     }
   }
-  const double u_bottom = (bottom.displacement - interval_.bottom).dot(d), u_top = (top.displacement - interval_.top).dot(d);
+  const double u_bottom = (bottom.displacement - interval_.bottom).dot(d),
+               u_top = (top.displacement - interval_.top).dot(d);
   measure::ShearUniformity uniformity{nan, nan, nan, nan, nan};
   std::vector<double> bins(static_cast<std::size_t>(bins_), nan);
   if (have_reference && u_bottom != u_top) {  // the first row, and a pause, have no profile
@@ -96,8 +106,9 @@ void UniformityProbe::measure(const Vec3& d, std::vector<double>& out) {
   out.insert(out.end(), porosity.begin(), porosity.end());
 
   // This row starts the next interval.
-  interval_.positions.assign(p.id.empty() ? 0 : static_cast<std::size_t>(*std::max_element(p.id.begin(), p.id.end())) + 1,
-                             Vec3::Constant(nan));
+  interval_.positions.assign(
+      p.id.empty() ? 0 : static_cast<std::size_t>(*std::max_element(p.id.begin(), p.id.end())) + 1,
+      Vec3::Constant(nan));
   for (std::size_t i = 0; i < p.size(); ++i)
     if (!p.is_pebble(i)) interval_.positions[static_cast<std::size_t>(p.id[i])] = p.x[i];
   interval_.bottom = bottom.displacement;

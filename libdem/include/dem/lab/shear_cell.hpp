@@ -66,6 +66,15 @@ void move_rings(World& world, const ShearCell& cell, bool specimen_made);
 /// z; Prescribed rings stay held, moved only by move_rings.
 void release_rings(World& world, const ShearCell& cell);
 
+/// Keeps the top plate from moving down this step to a plate gap below `min_gap` (m), by raising
+/// its vertical velocity where needed: a servo may lift it, never lower it past that gap. While
+/// radii grow, a plate that chased its stress into the loose half-size balls would pack them at
+/// the bottom of the cavity. Call it after the servo has set the velocity.
+void keep_plate_gap(World& world, const ShearCell& cell, double min_gap);
+
+/// 1 - ball volume / (area x plate gap): the specimen's porosity, overlaps ignored.
+double specimen_porosity(const World& world, const ShearCell& cell);
+
 /// Adds each ring's horizontal displacement since it was built (m) to `log`: ring_1_dx, ring_1_dy,
 /// ring_2_dx, ... from the bottom ring up.
 void add_ring_columns(HistoryLog& log, const World& world, const ShearCell& cell);

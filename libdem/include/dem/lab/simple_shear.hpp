@@ -231,7 +231,6 @@ class SimpleShearTest {
   Vec3 leg_direction(std::size_t leg) const;
   ServoSettings servo_settings() const;
   double shear_servo_speed() const;  // m/s, cap of the servo plate while shearing
-  double mean_diameter() const;  // m, of the balls
   void start_leg();
 
   SimpleShearConfig config_;

@@ -55,10 +55,10 @@ class UniformityProbe {
 /// strain (each row's strain within half an `every_strain` of slack), against uniform simple shear
 /// with the plates' displacements along `direction` over that span.
 struct SpanUniformity {
-  bool found = false;                       // the span holds at least one row with a row before it
+  bool found = false;                         // the span holds at least one row with a row before it
   double from_strain = 0.0, to_strain = 0.0;  // -, strains at the span's ends as recorded
   measure::ShearUniformity uniformity{};
-  bool every_bin_has_balls = true;          // no bin was empty at a row of the span
+  bool every_bin_has_balls = true;  // no bin was empty at a row of the span
 };
 SpanUniformity span_uniformity(const io::CsvTable& history, int bins, double from, double to, double every_strain,
                                const Vec3& direction);
