@@ -7,6 +7,7 @@ namespace dem::python {
 
 void bind_engine(pybind11::module_& m);   // World, particles, laws, walls, clumps, rings, servo, measurement
 void bind_toolkit(pybind11::module_& m);  // the lab toolkit's parts: cell, radius expansion, consolidation, shear legs
+void bind_history(pybind11::module_& m);  // the history log and the parts that add its columns
 void bind_lab(pybind11::module_& m);      // the simple-shear and cyclic-shear protocols
 
 }  // namespace dem::python

@@ -22,5 +22,6 @@ PYBIND11_MODULE(libdem, m) {
   });
   dem::python::bind_engine(m);
   dem::python::bind_toolkit(m);
+  dem::python::bind_history(m);
   dem::python::bind_lab(m);
 }

@@ -1,17 +1,19 @@
 // The lab toolkit from Python: the parts a protocol is written from (lab/shear_cell.hpp,
 // lab/radius_expansion.hpp, lab/friction_schedule.hpp, lab/consolidation.hpp, lab/shear_leg.hpp,
-// lab/grading.hpp), on a World the script owns. The names and fields are the C++ ones; random
+// lab/grading.hpp, lab/cyclic_path.hpp), on a World the script owns. The names and fields are the C++ ones; random
 // draws go through libdem.Random, the generator the C++ parts take, so that a script and a C++
 // program with the same seed make the same specimen. consolidate() releases the GIL and takes it back only for its callback.
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 
 #include <random>
 
 #include <dem/control/servo_wall.hpp>
 #include <dem/core/world.hpp>
 #include <dem/lab/consolidation.hpp>
+#include <dem/lab/cyclic_path.hpp>
 #include <dem/lab/friction_schedule.hpp>
 #include <dem/lab/grading.hpp>
 #include <dem/lab/radius_expansion.hpp>
@@ -71,6 +73,9 @@ void bind_cell(py::module_& m) {
         "Sets the rings' velocities for this step from the plates' (call it from a controller, after the servo)");
   m.def("release_rings", &lab::release_rings, py::arg("world"), py::arg("cell"));
   m.def("ring_lateral_stress", &lab::ring_lateral_stress, py::arg("world"), py::arg("cell"), "Pa, radial push of the sand on the rings");
+  m.def("keep_plate_gap", &lab::keep_plate_gap, py::arg("world"), py::arg("cell"), py::arg("min_gap"),
+        "Caps the top plate's downward velocity so that the plates stay min_gap (m) apart (after the servo)");
+  m.def("specimen_porosity", &lab::specimen_porosity, py::arg("world"), py::arg("cell"), "1 - ball volume / (area x plate gap)");
 }
 
 void bind_specimen(py::module_& m) {
@@ -174,6 +179,21 @@ void bind_loading(py::module_& m) {
       .def_property_readonly("strain", &lab::ShearPath::strain)
       .def_property_readonly("offset", &lab::ShearPath::offset)
       .def_property_readonly("height", &lab::ShearPath::height);
+
+  py::enum_<lab::CyclicShape>(m, "CyclicShape", "The cyclic paths in the horizontal plane (lab/cyclic_path.hpp)")
+      .value("SINE", lab::CyclicShape::Sine)
+      .value("CIRCLE", lab::CyclicShape::Circle)
+      .value("ELLIPSE", lab::CyclicShape::Ellipse)
+      .value("FIGURE8", lab::CyclicShape::Figure8)
+      .value("SERIES", lab::CyclicShape::Series);
+  py::class_<lab::CyclicPath>(m, "CyclicPath", "Where a cyclic path is at N cycles, in units of its amplitude (a series: absolute)")
+      .def(py::init<lab::CyclicShape, double, double>(), py::arg("shape"), py::arg("direction_deg") = 0.0, py::arg("minor_ratio") = 0.5)
+      .def_static("from_csv", &lab::CyclicPath::from_csv, py::arg("file"), py::arg("period"),
+                  "A series: columns cycle (or time, s, over period) then x and y")
+      .def("at", &lab::CyclicPath::at, py::arg("cycles"))
+      .def("length_cycles", &lab::CyclicPath::length_cycles)
+      .def_property_readonly("absolute", &lab::CyclicPath::absolute)
+      .def_property_readonly("shape", &lab::CyclicPath::shape);
 }
 
 }  // namespace

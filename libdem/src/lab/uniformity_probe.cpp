@@ -1,5 +1,6 @@
 #include <dem/lab/uniformity_probe.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
