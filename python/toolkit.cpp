@@ -5,6 +5,7 @@
 // program with the same seed make the same specimen. consolidate() releases the GIL and takes it back only for its callback.
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
+#include <pybind11/functional.h>
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
@@ -16,6 +17,7 @@
 #include <dem/lab/cyclic_path.hpp>
 #include <dem/lab/friction_schedule.hpp>
 #include <dem/lab/grading.hpp>
+#include <dem/lab/horizontal_drive.hpp>
 #include <dem/lab/radius_expansion.hpp>
 #include <dem/lab/shear_cell.hpp>
 #include <dem/lab/shear_leg.hpp>
@@ -194,6 +196,27 @@ void bind_loading(py::module_& m) {
       .def("length_cycles", &lab::CyclicPath::length_cycles)
       .def_property_readonly("absolute", &lab::CyclicPath::absolute)
       .def_property_readonly("shape", &lab::CyclicPath::shape);
+
+  py::class_<lab::HorizontalDriveSettings>(m, "HorizontalDriveSettings", "Plates, area (m^2), height (m), servo gain and cap")
+      .def(py::init([](WallId top, WallId bottom, double area, double height, double stiffness_ratio, double relaxation, double max_speed) {
+             return lab::HorizontalDriveSettings{top, bottom, area, height, stiffness_ratio, relaxation, max_speed};
+           }),
+           py::arg("top"), py::arg("bottom"), py::arg("area"), py::arg("height"), py::arg("stiffness_ratio") = 1.0,
+           py::arg("relaxation") = 1.0, py::arg("max_speed"));
+  py::class_<lab::HorizontalDrive, std::shared_ptr<lab::HorizontalDrive>>(
+      m, "HorizontalDrive", "The plates' horizontal motion of a cyclic or monotonic stage (lab/horizontal_drive.hpp); call it from a controller")
+      .def(py::init<const lab::HorizontalDriveSettings&>(), py::arg("settings"))
+      .def("hold", &lab::HorizontalDrive::hold)
+      .def("servo_stress", &lab::HorizontalDrive::servo_stress, py::arg("target"), py::arg("start_step"), py::arg("steps_per_cycle"),
+           "target(N) -> horizontal stress (Pa) the top plate's servo follows")
+      .def("follow_strain", &lab::HorizontalDrive::follow_strain, py::arg("target"), py::arg("start_step"), py::arg("steps_per_cycle"),
+           "target(N) -> horizontal shear strain the bottom plate is moved to")
+      .def("move_bottom", &lab::HorizontalDrive::move_bottom, py::arg("velocity"))
+      .def("__call__", &lab::HorizontalDrive::operator(), py::arg("world"))
+      .def("cycles_at", &lab::HorizontalDrive::cycles_at, py::arg("step"))
+      .def("target", &lab::HorizontalDrive::target, py::arg("cycles"))
+      .def_property_readonly("work", &lab::HorizontalDrive::work, "J/m^3")
+      .def("reset_work", &lab::HorizontalDrive::reset_work);
 }
 
 }  // namespace

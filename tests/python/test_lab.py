@@ -71,3 +71,27 @@ def test_toolkit_shear_leg_moves_the_plates_by_speed_times_time():
     world.step(100)
     assert path.advance(world, cell) == pytest.approx(100 * 0.01 * 1e-5 / 0.006, rel=1e-12)
     assert libdem.plate_offset(world, cell) == pytest.approx([0, 100 * 0.01 * 1e-5, 0], abs=1e-15)
+
+
+def test_toolkit_horizontal_drive_puts_the_strain_on_the_path_at_every_step():
+    settings = libdem.WorldSettings()
+    settings.time_step = 1e-5  # s
+    world = libdem.World(settings)
+    spec = libdem.ShearCellSpec()
+    spec.diameter, spec.height, spec.pebble_diameter, spec.ring_gap = 0.012, 0.006, 1.4e-3, 7e-5
+    cell = libdem.build_shear_cell(world, spec)
+    drive = libdem.HorizontalDrive(libdem.HorizontalDriveSettings(cell.top, cell.bottom, cell.area, 0.006, max_speed=0.1))
+    world.add_controller(lambda w: drive(w))
+    path, amplitude, steps_per_cycle = libdem.CyclicPath(libdem.CyclicShape.FIGURE8, 30.0), 0.01, 200.0
+    drive.follow_strain(lambda n: amplitude * path.at(n), world.step_count, steps_per_cycle)
+    for _ in range(7):
+        world.step(37)
+        n = drive.cycles_at(world.step_count)
+        assert libdem.plate_offset(world, cell) / 0.006 == pytest.approx(amplitude * path.at(n), abs=1e-15)
+    drive.move_bottom(np.array([0.0, 0.02, 0.0]))  # then monotonic: 0.02 m/s along +y
+    before = libdem.plate_offset(world, cell)
+    world.step(100)
+    assert libdem.plate_offset(world, cell) - before == pytest.approx([0.0, 100 * 0.02 * 1e-5, 0.0], abs=1e-15)
+    assert drive.work == 0.0  # no balls: no force on the top plate
+    with pytest.raises(ValueError, match="horizontal drive max_speed"):
+        libdem.HorizontalDrive(libdem.HorizontalDriveSettings(cell.top, cell.bottom, cell.area, 0.006, max_speed=0.0))

@@ -1,4 +1,4 @@
-// The cyclic simple-shear protocol: the per-step plate control, the stages, the rows and the stop
+// The cyclic simple-shear protocol: the stages, the rows and the stop
 // criteria. Outputs are written after every row, so the files are complete if the run stops.
 #include <dem/lab/cyclic_shear.hpp>
 
@@ -33,50 +33,6 @@ std::string cycle_label(double cycles) {
 
 }  // namespace
 
-// Runs as a World controller after the specimen's own (vertical servo, rings): sets the plates'
-// horizontal velocities for this step and adds this step's work tau . d gamma.
-struct CyclicShearTest::Drive {
-  enum class Mode { Idle, StressServo, StrainPath, Monotonic };
-  Mode mode = Mode::Idle;
-  std::int64_t phase_start_step = 0;
-  WallId top = -1, bottom = -1;
-  double area = 0.0, height = 0.0;       // m^2, m (H_c)
-  double stiffness_ratio = 1.0;          // ball-facet kn / ks
-  double relaxation = 0.2, max_speed = 0.0;
-  double steps_per_cycle = 1.0;
-  std::function<Vec3(double)> stress_target;  // Pa, of the cycles N in the phase at the end of the step
-  std::function<Vec3(double)> strain_target;  // -, of N
-  Vec3 monotonic_velocity = Vec3::Zero();     // m/s, of the bottom plate
-  double work = 0.0;                          // J/m^3
-
-  void operator()(World& w) {
-    if (mode == Mode::Idle) return;
-    FacetWall& top_plate = w.wall(top);
-    FacetWall& bottom_plate = w.wall(bottom);
-    const double dt = w.time_step();
-    const double n_next = static_cast<double>(w.step_count() - phase_start_step + 1) / steps_per_cycle;
-    const Vec3 tau = horizontal(top_plate.force) / area;
-    Vec3 v_top = Vec3::Zero(), v_bottom = Vec3::Zero();
-    if (mode == Mode::StressServo) {
-      // More stress along d needs the top plate to move along -d (gamma grows).
-      const double shear_stiffness = top_plate.stiffness_sum / stiffness_ratio;
-      if (shear_stiffness > 0.0) {
-        const double gain = relaxation * area / (shear_stiffness * dt);
-        v_top = -gain * (stress_target(n_next) - tau);
-        if (v_top.norm() > max_speed) v_top *= max_speed / v_top.norm();
-      }
-    } else if (mode == Mode::StrainPath) {
-      const Vec3 now = horizontal(bottom_plate.displacement - top_plate.displacement);
-      v_bottom = (strain_target(n_next) * height - now) / dt;
-    } else {
-      v_bottom = monotonic_velocity;
-    }
-    top_plate.velocity.x() = v_top.x(), top_plate.velocity.y() = v_top.y();
-    bottom_plate.velocity.x() = v_bottom.x(), bottom_plate.velocity.y() = v_bottom.y();
-    work += tau.dot(v_bottom - v_top) * dt / height;
-  }
-};
-
 void check_cyclic_inputs(const CyclicShearConfig& config) {
   if (config.path == CyclicShape::Series) (void)CyclicPath::from_csv(config.series_file, 1.0);
 }
@@ -100,7 +56,6 @@ CyclicShearTest::CyclicShearTest(SimpleShearTest& specimen, CyclicShearConfig co
       log_(log),
       path_(config_.path == CyclicShape::Series ? CyclicPath::from_csv(config_.series_file, 1.0)
                                                 : CyclicPath(config_.path, config_.direction_deg, config_.minor_ratio)),
-      drive_(std::make_shared<Drive>()),
       history_(history_columns(), io::Missing::Allowed),
       cycles_(horizontal_direction(config_.direction_deg), static_cast<int>(config_.rows_per_cycle)) {
   require(specimen_.stage() == ShearStage::Consolidated, "cyclic shear: the specimen's stage", static_cast<int>(specimen_.stage()),
@@ -121,18 +76,18 @@ CyclicShearTest::CyclicShearTest(SimpleShearTest& specimen, CyclicShearConfig co
   std::sort(config_.snapshot_cycles.begin(), config_.snapshot_cycles.end());
   std::sort(config_.fabric_cycles.begin(), config_.fabric_cycles.end());
 
-  Drive& d = *drive_;
-  d.top = specimen_.top_plate();
-  d.bottom = specimen_.bottom_plate();
-  d.area = specimen_.area();
-  d.height = height;
-  d.stiffness_ratio = specimen_.config().ball_facet.stiffness_ratio;
-  d.relaxation = config_.servo_relaxation;
-  d.steps_per_cycle = static_cast<double>(steps_per_row_ * config_.rows_per_cycle);
-  d.max_speed = config_.servo_max_speed > 0 ? config_.servo_max_speed : 10.0 * shear_rate_ * height;
-  std::weak_ptr<Drive> weak = drive_;
+  HorizontalDriveSettings drive;
+  drive.top = specimen_.top_plate();
+  drive.bottom = specimen_.bottom_plate();
+  drive.area = specimen_.area();
+  drive.height = height;
+  drive.stiffness_ratio = specimen_.config().ball_facet.stiffness_ratio;
+  drive.relaxation = config_.servo_relaxation;
+  drive.max_speed = config_.servo_max_speed > 0 ? config_.servo_max_speed : 10.0 * shear_rate_ * height;
+  drive_ = std::make_shared<HorizontalDrive>(drive);
+  std::weak_ptr<HorizontalDrive> weak = drive_;
   w.add_controller([weak](World& world) {
-    if (const auto drive = weak.lock()) (*drive)(world);
+    if (const auto d = weak.lock()) (*d)(world);
   });
 }
 
@@ -150,43 +105,36 @@ Vec3 CyclicShearTest::strain_target(double cycles) const {
 
 void CyclicShearTest::start_phase(CyclicPhase phase) {
   World& w = specimen_.world();
-  Drive& d = *drive_;
-  d.phase_start_step = w.step_count();
+  HorizontalDrive& d = *drive_;
+  const double steps_per_cycle = static_cast<double>(steps_per_row_ * config_.rows_per_cycle);
   if (phase == CyclicPhase::Static) {
-    d.mode = Drive::Mode::StressServo;
     const Vec3 target = static_stress_;
-    d.stress_target = [target](double n) { return target * std::min(1.0, n / 0.25); };
+    d.servo_stress([target](double n) { return target * std::min(1.0, n / 0.25); }, w.step_count(), steps_per_cycle);
   } else if (phase == CyclicPhase::Cyclic) {
-    cyclic_start_strain_ = plate_offset(w, specimen_.cell()) / d.height;
-    d.work = 0.0;
-    if (config_.control == CyclicControl::Stress) {
-      d.mode = Drive::Mode::StressServo;
-      d.stress_target = [this](double n) { return stress_target(n); };
-    } else {
-      d.mode = Drive::Mode::StrainPath;
-      d.strain_target = [this](double n) { return strain_target(n); };
-    }
+    cyclic_start_strain_ = plate_offset(w, specimen_.cell()) / outcome_.consolidated_height;
+    d.reset_work();
+    if (config_.control == CyclicControl::Stress)
+      d.servo_stress([this](double n) { return stress_target(n); }, w.step_count(), steps_per_cycle);
+    else
+      d.follow_strain([this](double n) { return strain_target(n); }, w.step_count(), steps_per_cycle);
   } else {
-    d.mode = Drive::Mode::Monotonic;
-    d.monotonic_velocity = shear_rate_ * d.height * horizontal_direction(config_.post_direction_deg);
+    d.move_bottom(shear_rate_ * outcome_.consolidated_height * horizontal_direction(config_.post_direction_deg));
   }
 }
 
 void CyclicShearTest::record_row() {
   const World& w = specimen_.world();
   const ShearState s = specimen_.measure();
-  const Drive& d = *drive_;
-  const FacetWall& top = w.wall(d.top);
-  const FacetWall& bottom = w.wall(d.bottom);
+  const HorizontalDrive& d = *drive_;
+  const FacetWall& top = w.wall(d.settings().top);
+  const FacetWall& bottom = w.wall(d.settings().bottom);
   const double sigma_v0 = outcome_.vertical_stress_initial;
   const double excess = sigma_v0 - s.vertical_stress;
   const Vec3 rate = horizontal(bottom.velocity - top.velocity);
   const Mat3 stress = -s.sphere.stress, strain_rate = -s.sphere.strain_rate;
   const double coaxiality = rate.norm() > 0 ? measure::non_coaxiality_deg(stress, strain_rate, rate.normalized()) : NAN;
-  const double phase_cycles = static_cast<double>(w.step_count() - d.phase_start_step) / d.steps_per_cycle;
-  Vec3 target = Vec3::Constant(NAN);
-  if (d.mode == Drive::Mode::StressServo) target = d.stress_target(phase_cycles);
-  if (d.mode == Drive::Mode::StrainPath) target = d.strain_target(phase_cycles);
+  const double phase_cycles = d.cycles_at(w.step_count());
+  const Vec3 target = d.target(phase_cycles);
   const double cycles = current_phase_ == CyclicPhase::Cyclic ? phase_cycles
                         : current_phase_ == CyclicPhase::Static ? 0.0 : outcome_.cycles;
   CyclicSample sample;
@@ -194,7 +142,7 @@ void CyclicShearTest::record_row() {
   sample.strain = Vec3(s.shear_strain_x, s.shear_strain_y, 0.0);
   sample.stress = Vec3(s.shear_stress_x, s.shear_stress_y, 0.0);
   sample.pore_pressure_ratio = excess / sigma_v0;
-  sample.work = d.work;
+  sample.work = d.work();
   sample.coordination_number = s.sphere.coordination_number;
   sample.mechanical_coordination_number = s.sphere.mechanical_coordination_number;
   sample.non_coaxiality_deg = coaxiality;
@@ -205,7 +153,7 @@ void CyclicShearTest::record_row() {
                     s.shear_strain_x, s.shear_strain_y, s.shear_strain, s.shear_stress_x, s.shear_stress_y, s.shear_stress,
                     target.x(), target.y(), s.vertical_stress, s.vertical_stress_bottom, excess, excess / sigma_v0, s.height,
                     (s.height - outcome_.consolidated_height) / outcome_.consolidated_height,
-                    s.vertical_stress > 0 ? s.shear_stress / s.vertical_stress : NAN, d.work, da, s.lateral_stress,
+                    s.vertical_stress > 0 ? s.shear_stress / s.vertical_stress : NAN, d.work(), da, s.lateral_stress,
                     s.sphere.principal.sigma_1, s.sphere.principal.sigma_2, s.sphere.principal.sigma_3,
                     s.sphere.coordination_number, s.sphere.mechanical_coordination_number, s.sphere.porosity,
                     s.specimen_porosity, coaxiality, s.kinetic_energy, static_cast<double>(s.balls_outside)});
@@ -300,7 +248,7 @@ void CyclicShearTest::run() {
     log_ << "post-cyclic shear to " << config_.post_strain << ": tau " << last_sample_.stress.norm() / 1e3 << " kPa, sigma_v "
          << last_sample_.vertical_stress / 1e3 << " kPa\n";
   }
-  drive_->mode = Drive::Mode::Idle;
+  drive_->hold();
   stop_shear(w, specimen_.cell());
   write_outputs();
   specimen_.save_restart(specimen_.output_folder() / "final.restart");

@@ -3,18 +3,13 @@
 // path in the horizontal plane (lab/cyclic_path.hpp) under stress or strain control, drained or at
 // constant volume, until a stop criterion, then an optional monotonic shear.
 //
-// Control. Shear strain gamma = (u_bottom - u_top)_horizontal / H_c and shear stress tau = the
-// horizontal force of the sand on the top plate / area, as in SimpleShearTest.
-// - Strain control moves the bottom plate so that gamma is exactly on the path at every step.
-// - Stress control moves the top plate horizontally by a servo on its own force, the rule of the
-//   vertical servo (control/servo_wall.hpp) turned sideways: v = -G (tau_target - tau) with
-//   G = alpha A / (sum k_s dt), sum k_s the tangential stiffness of the plate's contacts (their
-//   normal stiffness over ball_facet.stiffness_ratio), capped at cyclic.servo_max_speed. Each step
-//   then removes the fraction alpha of the stress error if the balls stood still.
-// - Constant volume holds both plates' heights (the equivalent of an undrained test);
-//   the excess pore pressure is du = sigma_v0 - sigma_v and r_u = du / sigma_v0, with sigma_v the
-//   top plate's vertical stress and sigma_v0 its value when the cyclic test begins (the end of
-//   the consolidation). Drained keeps the vertical servo on sigma_v.
+// Control: the plates' horizontal motion is a HorizontalDrive (lab/horizontal_drive.hpp): strain
+// control moves the bottom plate exactly on the path, stress control servoes the top plate on its
+// own horizontal force, capped at cyclic.servo_max_speed.
+// Drainage. Constant volume holds both plates' heights (the equivalent of an undrained test);
+// the excess pore pressure is du = sigma_v0 - sigma_v and r_u = du / sigma_v0, with sigma_v the
+// top plate's vertical stress and sigma_v0 its value when the cyclic test begins (the end of
+// the consolidation). Drained keeps the vertical servo on sigma_v.
 //
 // Time. The path's clock is the step count: one cycle is cyclic.period over the time step at the
 // start of the stage, rounded to a whole number of steps per history row (rows_per_cycle rows a
@@ -40,6 +35,7 @@
 #include <dem/lab/cycle_log.hpp>
 #include <dem/lab/cyclic_path.hpp>
 #include <dem/lab/cyclic_shear_config.hpp>
+#include <dem/lab/horizontal_drive.hpp>
 #include <dem/lab/simple_shear.hpp>
 
 namespace dem::lab {
@@ -92,8 +88,6 @@ class CyclicShearTest {
   std::int64_t steps_per_row() const { return steps_per_row_; }
 
  private:
-  struct Drive;  // the per-step controller's state, shared with the World's controller
-
   void start_phase(CyclicPhase phase);
   /// Measures the specimen now: one history row, and a sample of the cycle log in the cyclic stage.
   void record_row();
@@ -106,7 +100,7 @@ class CyclicShearTest {
   CyclicShearConfig config_;
   std::ostream& log_;
   CyclicPath path_;
-  std::shared_ptr<Drive> drive_;
+  std::shared_ptr<HorizontalDrive> drive_;  // the World's controller holds it weakly
   io::CsvTable history_;
   CycleLog cycles_;
   CyclicOutcome outcome_;
