@@ -1,10 +1,12 @@
 // The lab toolkit's parts on a World the test owns: ball placement against a brute-force sampler
 // fed the same random numbers, the strain of a two-leg shear path against the plate speeds, the
 // Follow rings' invariant height fractions (docs/model.md 4), and a consolidation that ends on the
-// servo's tolerance or reports that it did not settle.
+// servo's tolerance or reports that it did not settle, and the horizontal drive's strain path and
+// stress servo.
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <memory>
 #include <random>
 #include <vector>
 
@@ -12,6 +14,7 @@
 #include <dem/lab/consolidation.hpp>
 #include <dem/lab/friction_schedule.hpp>
 #include <dem/lab/grading.hpp>
+#include <dem/lab/horizontal_drive.hpp>
 #include <dem/lab/radius_expansion.hpp>
 #include <dem/lab/shear_cell.hpp>
 #include <dem/lab/shear_leg.hpp>
@@ -200,4 +203,48 @@ TEST_CASE("lab toolkit: the friction schedule halves the friction to its floor, 
   CHECK_FALSE(next_friction(schedule, 0.405, {0.5, 0.4}));
   CHECK_FALSE(next_friction(schedule, 0.39, {0.5, 0.4}));
   CHECK(next_friction(schedule, 0.4051, {0.5, 0.4}));
+}
+
+TEST_CASE("lab toolkit: the horizontal drive puts the strain on its path and the plate stress on its target",
+          "[lab][toolkit][cyclic]") {
+  WorldSettings settings;
+  settings.time_step = 1e-6;  // s
+  settings.local_damping = 0.0;
+  World world(settings);
+  const ShearCell cell = build_shear_cell(world, small_cell());
+  set_laws(world, 0.5);
+  const double height = 0.006;  // m
+  HorizontalDriveSettings s{.top = cell.top, .bottom = cell.bottom, .area = cell.area, .height = height, .max_speed = 1.0};
+  auto drive = std::make_shared<HorizontalDrive>(s);
+  world.add_controller([drive](World& w) { (*drive)(w); });
+
+  SECTION("strain control: the offset over the height is the target at the end of every step") {
+    const double steps_per_cycle = 200.0;
+    auto target = [](double n) { return Vec3(0.01 * std::sin(2 * pi * n), 0.005 * std::sin(4 * pi * n), 0.0); };
+    drive->follow_strain(target, world.step_count(), steps_per_cycle);
+    for (int chunk = 0; chunk < 9; ++chunk) {
+      world.step(23);
+      const Vec3 strain = plate_offset(world, cell) / height;
+      CHECK((strain - target(drive->cycles_at(world.step_count()))).norm() < 1e-15);
+    }
+    CHECK(drive->work() == 0.0);  // no balls: no stress on the top plate
+  }
+  SECTION("stress control: one ball pressed under the top plate; the servo reaches a force below friction") {
+    // The ball is held; the plate is 5 um into it, so F_n = kn 5e-6 and the tangential spring
+    // ks = kn (stiffness ratio 1) carries the plate's horizontal force. Target: 20 % of mu F_n.
+    world.add_ball({.position = Vec3(0, 0, height - 0.5e-3 + 5e-6), .radius = 0.5e-3, .density = 2650, .fixed = dof_all});
+    world.step(1);
+    const double normal_force = world.wall(cell.top).force.z();
+    REQUIRE(normal_force > 0.0);
+    const Vec3 target_stress = Vec3(0.2 * 0.5 * normal_force / cell.area, 0.0, 0.0);
+    drive->servo_stress([&](double) { return target_stress; }, world.step_count(), 100.0);
+    world.step(20);
+    const Vec3 stress = Vec3(world.wall(cell.top).force.x(), world.wall(cell.top).force.y(), 0.0) / cell.area;
+    CHECK((stress - target_stress).norm() < 1e-6 * target_stress.norm());
+    drive->hold();
+    world.step(5);
+    CHECK(world.wall(cell.top).velocity.head<2>().norm() == 0.0);
+  }
+  CHECK_THROWS_WITH(HorizontalDrive({.top = cell.top, .bottom = cell.bottom, .area = cell.area, .height = height}),
+                    Catch::Contains("horizontal drive max_speed"));
 }
