@@ -39,11 +39,12 @@ int main(int argc, char** argv) try {
   World world(lab::world_settings(c));
   const lab::ShearCell cell = lab::build_shear_cell(world, lab::shear_cell_spec(c));
   std::unique_ptr<ServoWall> servo;
-  bool growing = true, specimen_made = false;
+  bool growing = true, specimen_made = false, shearing = false;
   world.add_controller([&](World& w) {
     if (servo) (*servo)(w);
     if (growing) lab::keep_plate_gap(w, cell, c.specimen.height);  // the radii grow in the cavity
     lab::move_rings(w, cell, specimen_made);
+    if (shearing) w.set_damping_frame(lab::shear_damping_frame(c, w, cell));  // docs/model.md 3.1
   });
   // Generation: balls at half size, grown in stages against a low servo stress with the generation
   // friction (plates and rings frictionless), each stage cycled towards equilibrium.
@@ -120,6 +121,7 @@ int main(int argc, char** argv) try {
   lab::ShearPath path(world, cell, height);
   double leg_start = 0.0, next_row = c.output.every_strain;
   start_leg();
+  shearing = true;
   while (leg < legs.size()) {
     world.step(10);
     path.advance(world, cell);

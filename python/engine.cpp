@@ -129,6 +129,16 @@ void bind_engine(py::module_& m) {
       .def_readwrite("max_step_travel_ratio", &WorldSettings::max_step_travel_ratio)
       .def_readwrite("pebble_pebble_contacts", &WorldSettings::pebble_pebble_contacts);
 
+  py::class_<DampingFrame>(m, "DampingFrame",
+                           "Velocity field local damping measures velocities against: velocity + (z - height) velocity_gradient "
+                           "(docs/model.md 3.1); the default is the fixed frame")
+      .def(py::init<>())
+      .def_readwrite("velocity", &DampingFrame::velocity, "m/s, at z = height")
+      .def_readwrite("height", &DampingFrame::height, "m")
+      .def_readwrite("velocity_gradient", &DampingFrame::velocity_gradient, "1/s, dv/dz")
+      .def("velocity_at", &DampingFrame::velocity_at, py::arg("x"))
+      .def("spin", &DampingFrame::spin, "rad/s, half the vorticity");
+
   py::class_<LinearParams>(m, "LinearParams", "Linear spring-dashpot-slider law (docs/model.md 3)")
       .def(py::init<>())
       .def_static("deformable", &LinearParams::deformable, py::arg("effective_modulus"), py::arg("stiffness_ratio"), py::arg("friction"))
@@ -307,6 +317,8 @@ void bind_engine(py::module_& m) {
       .def("contact_count", &World::contact_count, py::arg("kind"))
       .def("set_gravity", &World::set_gravity)
       .def("set_local_damping", &World::set_local_damping)
+      .def("set_damping_frame", &World::set_damping_frame, py::arg("frame"), "set every step by the protocol that uses it; not saved")
+      .def_property_readonly("damping_frame", [](const World& w) { return w.damping_frame(); })
       // Views of the state in storage order (row i is ball ids[i]); valid until the next step.
       .def_property_readonly("size", [](const World& w) { return w.particles().size(); })
       .def_property_readonly("positions", [](py::object self) { return vec3_view(self.cast<World&>().particles().x, self); }, "m, N x 3")

@@ -74,6 +74,8 @@ void bind_cell(py::module_& m) {
   m.def("move_rings", &lab::move_rings, py::arg("world"), py::arg("cell"), py::arg("specimen_made"),
         "Sets the rings' velocities for this step from the plates' (call it from a controller, after the servo)");
   m.def("release_rings", &lab::release_rings, py::arg("world"), py::arg("cell"));
+  m.def("plate_damping_frame", &lab::plate_damping_frame, py::arg("world"), py::arg("cell"),
+        "the plates' affine field, for World.set_damping_frame while the plates shear");
   m.def("ring_lateral_stress", &lab::ring_lateral_stress, py::arg("world"), py::arg("cell"), "Pa, radial push of the sand on the rings");
   m.def("keep_plate_gap", &lab::keep_plate_gap, py::arg("world"), py::arg("cell"), py::arg("min_gap"),
         "Caps the top plate's downward velocity so that the plates stay min_gap (m) apart (after the servo)");

@@ -75,6 +75,25 @@ def test_a_python_controller_moves_a_wall():
     assert wall.displacement == pytest.approx([0, 0, -0.01 * 6 * 1e-5], abs=1e-18)
 
 
+def test_a_damping_frame_that_outruns_a_ball_brakes_it_by_one_plus_alpha():
+    # docs/model.md 3.1: gravity opposes the ball's velocity relative to a frame falling at 1 m/s,
+    # so local damping 0.7 gives (1 + 0.7) g from the first step; in the fixed frame (1 - 0.7) g.
+    settings = libdem.WorldSettings()
+    settings.gravity, settings.time_step = [0.0, 0.0, -9.81], 1e-5
+    world = libdem.World(settings)
+    world.add_ball([0.0, 0.0, 0.0], 1e-3, 2650.0)
+    frame = libdem.DampingFrame()
+    frame.velocity = [0.0, 0.0, -1.0]
+    world.set_damping_frame(frame)
+    assert world.damping_frame.velocity_at([0.0, 0.0, 0.5]) == pytest.approx([0.0, 0.0, -1.0])
+    world.step(1000)
+    assert world.velocities[0, 2] == pytest.approx(-1.7 * 9.81 * 1000 * 1e-5, rel=1e-12)
+    world.set_damping_frame(libdem.DampingFrame())
+    v0 = world.velocities[0, 2]
+    world.step(1000)
+    assert (world.velocities[0, 2] - v0) / 1e-2 == pytest.approx(-0.3 * 9.81, rel=1e-12)
+
+
 def test_run_until_and_measurement_sphere():
     world = two_balls(1e4)
     world.time_step = 1e-6

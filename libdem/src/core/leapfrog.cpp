@@ -28,8 +28,14 @@ inline void leapfrog_one(ParticleStore& p, const LeapfrogStep& step, std::int64_
   if (p.clump[i] >= 0) return;
   const std::uint8_t fixed = p.fixed[i];
   const double alpha = step.local_damping, dt = step.dt;
-  const Vec3 force = damped(p.f[i] + step.gravity / p.inv_mass[i], p.v[i], alpha);
-  const Vec3 torque = damped(p.t[i], p.w[i], alpha);
+  Vec3 force, torque;
+  if (step.frame == nullptr) {
+    force = damped(p.f[i] + step.gravity / p.inv_mass[i], p.v[i], alpha);
+    torque = damped(p.t[i], p.w[i], alpha);
+  } else {
+    force = damped(p.f[i] + step.gravity / p.inv_mass[i], p.v[i] - step.frame->velocity_at(p.x[i]), alpha);
+    torque = damped(p.t[i], p.w[i] - step.frame->spin(), alpha);
+  }
   if (fixed == 0) {
     p.v[i] += force * (p.inv_mass[i] * dt);
     p.w[i] += torque * (p.inv_inertia[i] * dt);
@@ -63,6 +69,13 @@ DEM_AVX512 inline __m512i spread_index(int q) {
 /// Per-particle values (lane m: particle m) spread over the pattern of register q.
 DEM_AVX512 inline __m512d spread(__m512d per_particle, __m512i index) {
   return _mm512_permutex2var_pd(per_particle, index, per_particle);  // (permutexvar warns falsely in GCC 12)
+}
+
+/// The same 3-vector u for eight particles: register q of the 24-double pattern.
+DEM_AVX512 inline __m512d pattern(const Vec3& u, int q) {
+  double lanes[8];
+  for (int m = 0; m < 8; ++m) lanes[m] = u[(8 * q + m) % 3];
+  return _mm512_loadu_pd(lanes);
 }
 
 /// F (1 - alpha sign(F V)), lane by lane, as damped().
@@ -110,6 +123,14 @@ DEM_AVX512 void leapfrog_avx512(ParticleStore& p, const LeapfrogStep& step, std:
                               _mm512_setr_pd(g.z(), g.x(), g.y(), g.z(), g.x(), g.y(), g.z(), g.x()),
                               _mm512_setr_pd(g.y(), g.z(), g.x(), g.y(), g.z(), g.x(), g.y(), g.z())};
   const __m512i spread_at[3] = {spread_index(0), spread_index(1), spread_index(2)};
+  // A moving damping frame: its velocity, gradient and spin in the same pattern as gravity.
+  const DampingFrame* frame = step.frame;
+  const Vec3 frame_v = frame ? frame->velocity : Vec3::Zero(), frame_g = frame ? frame->velocity_gradient : Vec3::Zero();
+  const Vec3 frame_w = frame ? frame->spin() : Vec3::Zero();
+  const __m512d frame_velocity[3] = {pattern(frame_v, 0), pattern(frame_v, 1), pattern(frame_v, 2)};
+  const __m512d frame_gradient[3] = {pattern(frame_g, 0), pattern(frame_g, 1), pattern(frame_g, 2)};
+  const __m512d frame_spin[3] = {pattern(frame_w, 0), pattern(frame_w, 1), pattern(frame_w, 2)};
+  const __m512d frame_height = _mm512_set1_pd(frame ? frame->height : 0.0);
   const __m512d alpha = _mm512_set1_pd(step.local_damping), dt = _mm512_set1_pd(step.dt);
   const __m512d step_ratio_sq = _mm512_set1_pd(step.step_ratio_sq), zero = _mm512_setzero_pd();
   __m512d travel_sq = _mm512_set1_pd(tally.travel_sq), near_travel_sq = _mm512_set1_pd(tally.near_travel_sq);
@@ -132,16 +153,28 @@ DEM_AVX512 void leapfrog_avx512(ParticleStore& p, const LeapfrogStep& step, std:
     const __m512d velocity_gain = _mm512_mul_pd(inv_mass, dt);
     const __m512d spin_gain = _mm512_mul_pd(_mm512_loadu_pd(&p.inv_inertia[at]), dt);
     const std::size_t o = 3 * at;
+    __m512d height_in_frame = zero;  // lane m: z of particle m above the frame's reference height
+    if (frame) {
+      const __m512d positions[3] = {_mm512_loadu_pd(x + o), _mm512_loadu_pd(x + o + 8), _mm512_loadu_pd(x + o + 16)};
+      height_in_frame = _mm512_sub_pd(component(positions, 2), frame_height);
+    }
     __m512d x_new[3], w_new[3], move[3];
     for (int q = 0; q < 3; ++q) {
       const std::size_t c = o + 8 * static_cast<std::size_t>(q);
       const __m512d weight = _mm512_div_pd(gravity[q], spread(inv_mass, spread_at[q]));
       const __m512d force = _mm512_add_pd(_mm512_loadu_pd(f + c), weight);
       const __m512d velocity = _mm512_loadu_pd(v + c);
-      const __m512d v_new = _mm512_add_pd(
-          velocity, _mm512_mul_pd(damped_lanes(force, velocity, alpha), spread(velocity_gain, spread_at[q])));
       const __m512d spin = _mm512_loadu_pd(w + c);
-      w_new[q] = _mm512_add_pd(spin, _mm512_mul_pd(damped_lanes(_mm512_loadu_pd(t + c), spin, alpha),
+      // Relative to the frame as the scalar path: v - (v_f + (z - h) g_f), w - w_f.
+      __m512d relative_velocity = velocity, relative_spin = spin;
+      if (frame) {
+        const __m512d along = _mm512_mul_pd(spread(height_in_frame, spread_at[q]), frame_gradient[q]);
+        relative_velocity = _mm512_sub_pd(velocity, _mm512_add_pd(frame_velocity[q], along));
+        relative_spin = _mm512_sub_pd(spin, frame_spin[q]);
+      }
+      const __m512d v_new = _mm512_add_pd(
+          velocity, _mm512_mul_pd(damped_lanes(force, relative_velocity, alpha), spread(velocity_gain, spread_at[q])));
+      w_new[q] = _mm512_add_pd(spin, _mm512_mul_pd(damped_lanes(_mm512_loadu_pd(t + c), relative_spin, alpha),
                                                    spread(spin_gain, spread_at[q])));
       move[q] = _mm512_mul_pd(v_new, dt);
       x_new[q] = _mm512_add_pd(_mm512_loadu_pd(x + c), move[q]);

@@ -9,12 +9,14 @@
 
 #include <cstdint>
 
+#include <dem/core/damping_frame.hpp>
 #include <dem/core/math.hpp>
 #include <dem/core/particles.hpp>
 
 namespace dem::detail {
 
-/// Local damping (docs/model.md 3.1): F_i (1 - alpha sign(F_i V_i)) for each degree of freedom.
+/// Local damping (docs/model.md 3.1): F_i (1 - alpha sign(F_i V_i)) for each degree of freedom,
+/// V the velocity relative to the damping frame.
 inline Vec3 damped(const Vec3& force, const Vec3& velocity, double alpha) {
   Vec3 out;
   for (int a = 0; a < 3; ++a) {
@@ -38,6 +40,7 @@ struct LeapfrogStep {
   double step_ratio_sq;      // (largest move in one step / radius)^2
   const Vec3* x_at_rebuild;  // m, positions at the last neighbour-list rebuild
   const Vec3* x_at_near;     // m, positions at the last near-list refresh
+  const DampingFrame* frame; // the frame damping measures velocities against; nullptr: the fixed frame
 };
 
 /// What a range of particles reports: the largest squared travels since the rebuild and since

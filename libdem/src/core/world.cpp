@@ -107,6 +107,12 @@ void World::set_local_damping(double alpha) {
   settings_.local_damping = alpha;
 }
 
+void World::set_damping_frame(const DampingFrame& frame) {
+  require(frame.velocity.allFinite() && std::isfinite(frame.height) && frame.velocity_gradient.allFinite(),
+          "damping frame", "a non-finite value", "finite velocity, height and velocity gradient");
+  damping_frame_ = frame;
+}
+
 void World::set_max_overlap_ratio(double ratio) {
   require(std::isfinite(ratio) && ratio > 0.0, "max_overlap_ratio", ratio, "finite and > 0");
   settings_.max_overlap_ratio = ratio;

@@ -28,7 +28,8 @@ void World::integrate() {
   const auto n = static_cast<std::int64_t>(p.size());
   const double step_ratio = settings_.max_step_travel_ratio;
   // x_at_near_ is current: step() refreshed the near lists before the forces
-  const detail::LeapfrogStep leapfrog_step{g, alpha, dt, step_ratio * step_ratio, x_at_rebuild_.data(), x_at_near_.data()};
+  const DampingFrame* frame = damping_frame_.at_rest() ? nullptr : &damping_frame_;
+  const detail::LeapfrogStep leapfrog_step{g, alpha, dt, step_ratio * step_ratio, x_at_rebuild_.data(), x_at_near_.data(), frame};
   double travel_sq = max_travel_sq_, near_travel_sq = max_near_travel_sq_;
   std::int64_t bad = std::numeric_limits<std::int64_t>::max();
 
@@ -80,11 +81,13 @@ void World::integrate() {
     }
     c.force = force;
     c.torque = torque;
-    const Vec3 total_force = damped(force + c.mass * g + c.applied_force, c.v, alpha);
+    const Vec3 damped_velocity = frame ? Vec3(c.v - frame->velocity_at(c.x)) : c.v;  // relative to the frame
+    const Vec3 total_force = damped(force + c.mass * g + c.applied_force, damped_velocity, alpha);
     masked_add(c.v, total_force * (dt / c.mass), c.fixed, 0);
     if ((c.fixed & dof_rotation) != dof_rotation) {
       const Mat3 inertia = c.inertia_world();
-      const Vec3 total_torque = damped(torque + c.applied_torque, c.w, alpha) - c.w.cross(inertia * c.w);
+      const Vec3 total_torque =
+          damped(torque + c.applied_torque, frame ? Vec3(c.w - frame->spin()) : c.w, alpha) - c.w.cross(inertia * c.w);
       masked_add(c.w, inertia.ldlt().solve(total_torque) * dt, c.fixed, 3);
     }
     // A prescribed (fixed) spin turns the clump too.

@@ -55,6 +55,15 @@ double ring_lateral_stress(const World& world, const ShearCell& cell) {
   return radial / (2 * pi * cell.radius * cell.plate_gap(world));
 }
 
+DampingFrame plate_damping_frame(const World& world, const ShearCell& cell) {
+  const FacetWall& bottom = world.wall(cell.bottom);
+  DampingFrame frame;
+  frame.velocity = bottom.velocity;
+  frame.height = bottom.displacement.z();
+  frame.velocity_gradient = (world.wall(cell.top).velocity - bottom.velocity) / cell.plate_gap(world);
+  return frame;
+}
+
 // docs/model.md 4: with Follow, ring k keeps its fraction s_k = (z_k - z_b) / H of the height
 // between the plates: v_k,z = v_b,z + s_k (v_t,z - v_b,z), so z_k - z_b - s_k H is invariant under
 // the step (both move by v dt). Prescribed rings also interpolate horizontally.

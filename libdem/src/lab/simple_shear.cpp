@@ -65,6 +65,7 @@ void SimpleShearTest::control(World& w) {
   if (servo_) (*servo_)(w);
   if (generation_floor_) keep_plate_gap(w, cell_, config_.specimen.height);  // the radii grow in the cavity
   move_rings(w, cell_, stage_ >= ShearStage::Generated);
+  w.set_damping_frame(stage_ == ShearStage::Shearing ? shear_damping_frame(config_, w, cell_) : DampingFrame{});
 }
 
 void SimpleShearTest::generate() {

@@ -188,6 +188,8 @@ const BindingTable<ShearConfig>& shear_keys() {
        "drained: constant vertical stress (servo); constant-volume: fixed height"},
       {"moving_plate", io::enum_choice({"bottom", "both"}, &S::moving_plate), "-",
        "bottom: the bottom plate moves along the shear, the top is held (the study); both: each moves half the displacement, in opposite directions (the same relative motion, with the specimen's middle at rest)"},
+      {"damping_frame", io::enum_choice({"fixed", "plates"}, &S::damping_frame), "-",
+       "what local damping measures velocities against while shearing: plates: the plates' affine field, uniform simple shear between them; fixed: the fixed frame, PFC's, which brakes the layers that move with a plate and so loads the sand next to the moving plate more (docs/model.md 3.1)"},
       {"directions_deg", &S::directions_deg, "deg", "direction of each shear leg in the horizontal plane, from +x towards +y", -360.0, 360.0},
       {"leg_strains", &S::leg_strains, "-", "shear strain of each leg; empty: one leg of shear.target_strain", 0.0},
       {"target_strain", &S::target_strain, "-", "shear strain of a single-leg test", 0.0, {}, true},

@@ -127,4 +127,8 @@ ShearLegMotion shear_leg_motion(const SimpleShearConfig& config, double directio
   return motion;
 }
 
+DampingFrame shear_damping_frame(const SimpleShearConfig& config, const World& world, const ShearCell& cell) {
+  return config.shear.damping_frame == ShearDampingFrame::Plates ? plate_damping_frame(world, cell) : DampingFrame{};
+}
+
 }  // namespace dem::lab

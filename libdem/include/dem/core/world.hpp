@@ -32,6 +32,7 @@
 #include <dem/boundary/facet_wall.hpp>
 #include <dem/contact/contact_model.hpp>
 #include <dem/contact/contact_sets.hpp>
+#include <dem/core/damping_frame.hpp>
 #include <dem/core/particles.hpp>
 #include <dem/grid/cell_grid.hpp>
 
@@ -131,6 +132,11 @@ class World {
   const FacetWall& wall(WallId id) const { return walls_.at(static_cast<std::size_t>(id)); }
   const WorldSettings& settings() const { return settings_; }
   void set_local_damping(double alpha);
+  /// The field local damping measures velocities against (DampingFrame; the fixed frame unless
+  /// set). Like a controller it is code's, not state: save_state does not write it, and a
+  /// protocol that uses it sets it each step (lab::plate_damping_frame follows a shear cell).
+  void set_damping_frame(const DampingFrame& frame);
+  const DampingFrame& damping_frame() const { return damping_frame_; }
   /// Overlap / smaller radius above which a step stops with InstabilityError (> 0). Restart files
   /// carry it; a protocol that loads one can raise it again afterwards.
   void set_max_overlap_ratio(double ratio);
@@ -181,6 +187,7 @@ class World {
   double resolved_skin() const;
 
   WorldSettings settings_;
+  DampingFrame damping_frame_;
   int threads_ = 1;
   ParticleStore particles_;
   std::vector<Clump> clumps_;

@@ -13,6 +13,9 @@ namespace dem::lab {
 
 enum class ShearMode { Drained, ConstantVolume };  // drained: constant vertical stress (servo)
 enum class MovingPlate { Bottom, Both };           // both: each plate moves half, oppositely
+/// What local damping measures velocities against while the plates shear: the fixed frame (PFC's),
+/// or the plates' affine field (plate_damping_frame in lab/shear_cell.hpp).
+enum class ShearDampingFrame { Fixed, Plates };
 
 /// The unit horizontal vector at `deg` degrees from +x towards +y.
 Vec3 horizontal_direction(double deg);

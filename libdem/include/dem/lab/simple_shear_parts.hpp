@@ -74,4 +74,8 @@ double shear_servo_speed(const SimpleShearConfig& config, double rate, double he
 /// specimen of height `height` (m): shear.mode, shear.moving_plate and shear_servo_speed().
 ShearLegMotion shear_leg_motion(const SimpleShearConfig& config, double direction_deg, double rate, double height);
 
+/// The damping frame while the plates shear, as shear.damping_frame says: the plates' affine field
+/// (plate_damping_frame) or the fixed frame. Set it every step of the shear (a controller's job).
+DampingFrame shear_damping_frame(const SimpleShearConfig& config, const World& world, const ShearCell& cell);
+
 }  // namespace dem::lab
