@@ -58,12 +58,14 @@ int main(int argc, char** argv) {
   const lab::RadiusExpansion expansion =
       lab::add_expanding_balls(world, {cell.radius, spec.height}, diameters, 2650.0, 4, rng);
 
-  // One controller: the servo (once there is one), then the rings, which read the plate velocities.
+  // One controller: the servo (once there is one), then the rings and, while shearing, the damping
+  // frame (uniform shear between the plates, docs/model.md 3.1), which read the plate velocities.
   std::unique_ptr<ServoWall> servo;
-  bool specimen_made = false;
+  bool specimen_made = false, shearing = false;
   world.add_controller([&](World& w) {
     if (servo) (*servo)(w);
     lab::move_rings(w, cell, specimen_made);
+    if (shearing) w.set_damping_frame(lab::plate_damping_frame(w, cell));
   });
 
   // Radius expansion in the closed cell, cycling to equilibrium after each stage.
@@ -103,6 +105,7 @@ int main(int argc, char** argv) {
   lab::start_shear_leg(world, cell, *servo,
                        {.direction_deg = 0.0, .speed = strain_rate * height, .mode = lab::ShearMode::ConstantVolume});
   lab::ShearPath path(world, cell, height);
+  shearing = true;
   io::CsvTable table({"shear_strain", "shear_stress_Pa", "vertical_stress_Pa", "stress_ratio", "height_m"});
   const auto steps_per_row = static_cast<std::int64_t>(0.005 / strain_rate / world.time_step());
   std::printf("%10s %10s %12s %8s\n", "gamma [%]", "tau [kPa]", "sigma_v [kPa]", "tau/sv");

@@ -1,8 +1,6 @@
 #!/usr/bin/python3
-"""K0 loading to 50, 100, 200 kPa in a ring stack (K0 = ring lateral stress / vertical stress),
-then constant-volume simple shear, from the lab toolkit's parts: the twin of
-examples/k0_constant_volume.cpp step for step (same seed, parts and order: the same numbers).
-
+"""K0 loading to 50, 100, 200 kPa in a ring stack, then constant-volume simple shear, from the lab
+toolkit's parts: the twin of examples/k0_constant_volume.cpp step for step (the same numbers).
 Run: PYTHONPATH=build/python /usr/bin/python3 examples/python/k0_constant_volume.py [out.csv [strain]]
 """
 
@@ -34,13 +32,15 @@ grading.scale = 2.0  # 1.4-2.4 mm
 diameters = dem.sample_diameters(grading, (1 - 0.40) * cell.area * spec.height, rng)
 expansion = dem.add_expanding_balls(world, dem.Cylinder(cell.radius, spec.height), diameters, 2650.0, 4, rng)
 
-state = {"servo": None, "made": False}
+state = {"servo": None, "made": False, "shearing": False}
 
 
-def control(w):  # the servo (once there is one), then the rings, which read the plate velocities
+def control(w):  # the servo (once there is one), the rings and the damping frame read the plates
     if state["servo"] is not None:
         state["servo"](w)
     dem.move_rings(w, cell, state["made"])
+    if state["shearing"]:  # damped against uniform shear between the plates (docs/model.md 3.1)
+        w.set_damping_frame(dem.plate_damping_frame(w, cell))
 
 
 world.add_controller(control)
@@ -66,7 +66,7 @@ for stress in (50e3, 100e3, 200e3):
 height = cell.plate_gap(world)
 strain_rate = 1e-3 / (0.5 * (grading.smallest() + grading.largest()) * np.sqrt(2650.0 / 200e3))  # I = 1e-3
 dem.start_shear_leg(world, cell, servo, dem.ShearLegMotion(0.0, strain_rate * height, dem.ShearMode.CONSTANT_VOLUME))
-path = dem.ShearPath(world, cell, height)
+path, state["shearing"] = dem.ShearPath(world, cell, height), True
 rows, steps_per_row = [], int(0.005 / strain_rate / world.time_step)
 while path.strain < final_strain:
     world.step(steps_per_row)

@@ -221,6 +221,9 @@ TEST_CASE("calibration: E* and mu are recovered from a curve made with known val
   start.set("ball_ball.friction", "0.3");              // -40 %
   start.set("calibration.tolerance", "0.005");
   start.set("calibration.cycles", "3");
+  // The volumetric strain of 182 balls to 4 % strain is mostly noise (4-1000 % relative difference
+  // between nearby trials): the whole-curve stage weighs the shear stress alone.
+  start.set("calibration.volumetric_weight", "0");
   const fs::path lab_file = make_lab_curve(start, truth, 0.04, dir);
 
   CalibrationSettings settings = calibration_settings(start);

@@ -110,7 +110,7 @@ struct ShearLeg {
 struct ShearConfig {
   ShearMode mode = ShearMode::Drained;
   MovingPlate moving_plate = MovingPlate::Bottom;
-  ShearDampingFrame damping_frame = ShearDampingFrame::Fixed;
+  ShearDampingFrame damping_frame = ShearDampingFrame::Plates;
   std::vector<double> directions_deg{0.0};  // deg, of each leg
   std::vector<double> leg_strains{};        // -, of each leg; empty: one leg of target_strain
   double target_strain = 0.4;               // -, of a single-leg test
