@@ -318,7 +318,8 @@ void bind_engine(py::module_& m) {
       .def("set_gravity", &World::set_gravity)
       .def("set_local_damping", &World::set_local_damping)
       .def("set_damping_frame", &World::set_damping_frame, py::arg("frame"), "set every step by the protocol that uses it; not saved")
-      .def_property_readonly("damping_frame", [](const World& w) { return w.damping_frame(); })
+      .def_property_readonly("damping_frame", [](const World& w) { return w.damping_frame(); },
+                             "a copy: change it with set_damping_frame")
       // Views of the state in storage order (row i is ball ids[i]); valid until the next step.
       .def_property_readonly("size", [](const World& w) { return w.particles().size(); })
       .def_property_readonly("positions", [](py::object self) { return vec3_view(self.cast<World&>().particles().x, self); }, "m, N x 3")

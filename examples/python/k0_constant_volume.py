@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """K0 loading to 50, 100, 200 kPa in a ring stack, then constant-volume simple shear, from the lab
-toolkit's parts: the twin of examples/k0_constant_volume.cpp step for step (the same numbers).
+toolkit's parts: the twin of examples/k0_constant_volume.cpp (same seed, parts, order: same numbers).
 Run: PYTHONPATH=build/python /usr/bin/python3 examples/python/k0_constant_volume.py [out.csv [strain]]
 """
 

@@ -127,6 +127,14 @@ TEST_CASE("resume rules: what is done is fixed, what is to come and the outputs 
                             Contains(to_string(c.progress)));
     }
   }
+  // A file written before shear.damping_frame existed sheared in the fixed frame: the new default
+  // is refused mid-shear, naming the key, and allowed on a consolidated specimen.
+  CHECK_THROWS_WITH(check_resume({{"shear.mode", "drained"}}, {{"shear.mode", "drained"}, {"shear.damping_frame", "plates"}},
+                                 RunProgress::Shearing, false, "f"),
+                    Contains("shear.damping_frame = plates here, fixed in the file"));
+  CHECK(check_resume({{"shear.mode", "drained"}}, {{"shear.damping_frame", "fixed"}}, RunProgress::Shearing, false, "f").empty());
+  CHECK(check_resume({{"shear.mode", "drained"}}, {{"shear.damping_frame", "plates"}}, RunProgress::Consolidated, false, "f")
+            .size() == 1);
   // Unchanged keys and keys of another schema version pass without a word.
   CHECK(check_resume({{"shear.mode", "drained"}, {"old.key", "1"}}, {{"shear.mode", "drained"}, {"new.key", "2"}},
                      RunProgress::Done, false, "f")

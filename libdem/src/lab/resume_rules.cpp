@@ -82,10 +82,26 @@ std::vector<std::pair<std::string, std::string>> configuration_record(const io::
   return record;
 }
 
+namespace {
+
+// Keys added after restart files were first written, with the value such a file's run had: a file
+// without the key is checked as if it held that value, so that a new default cannot slip into a
+// stage the file has already run.
+const std::map<std::string, std::string>& values_before_keys() {
+  static const std::map<std::string, std::string> values = {
+      {"shear.damping_frame", "fixed"},  // shear legs were damped in the fixed frame (docs/model.md 3.1)
+  };
+  return values;
+}
+
+}  // namespace
+
 std::vector<ResumeChange> check_resume(const std::vector<std::pair<std::string, std::string>>& file_record,
                                        const std::vector<std::pair<std::string, std::string>>& now, RunProgress progress,
                                        bool reconsolidate, const std::string& where) {
-  const std::map<std::string, std::string> before(file_record.begin(), file_record.end());
+  std::map<std::string, std::string> before(file_record.begin(), file_record.end());
+  if (!before.empty())  // a file with no record at all gets only the older specimen checks
+    for (const auto& [key, value] : values_before_keys()) before.emplace(key, value);
   std::vector<ResumeChange> allowed;
   std::ostringstream refused;
   int refusals = 0;

@@ -24,7 +24,7 @@ struct DampingFrame {
   /// The field's velocity at x (m/s).
   Vec3 velocity_at(const Vec3& x) const { return velocity + (x.z() - height) * velocity_gradient; }
   /// Half the field's vorticity (rad/s): the mean spin of material that follows the field, which
-  /// spins are damped against.
+  /// spins are damped against. The vertical gradient (g_z, a stretch) turns nothing.
   Vec3 spin() const { return 0.5 * Vec3(-velocity_gradient.y(), velocity_gradient.x(), 0.0); }
 };
 

@@ -133,8 +133,9 @@ class World {
   const WorldSettings& settings() const { return settings_; }
   void set_local_damping(double alpha);
   /// The field local damping measures velocities against (DampingFrame; the fixed frame unless
-  /// set). Like a controller it is code's, not state: save_state does not write it, and a
-  /// protocol that uses it sets it each step (lab::plate_damping_frame follows a shear cell).
+  /// set). Not saved by save_state: a protocol that uses it sets it from a controller every step
+  /// (lab::plate_damping_frame follows a shear cell's plates), so damping_frame() between steps
+  /// shows the frame of the last step.
   void set_damping_frame(const DampingFrame& frame);
   const DampingFrame& damping_frame() const { return damping_frame_; }
   /// Overlap / smaller radius above which a step stops with InstabilityError (> 0). Restart files

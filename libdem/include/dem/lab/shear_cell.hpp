@@ -61,8 +61,9 @@ double ring_lateral_stress(const World& world, const ShearCell& cell);
 /// ring, and Free and Fixed leave the rings to the engine.
 void move_rings(World& world, const ShearCell& cell, bool specimen_made);
 
-/// The plates' affine field: each plate's velocity at its height, interpolated linearly between
-/// them (uniform simple shear, and the servo's vertical motion). Set as the world's damping frame
+/// The plates' affine field: each plate's velocity at its height (the bottom plate's surface, built
+/// at z = 0, moved by its displacement), interpolated linearly between them (uniform simple shear,
+/// and the servo's vertical motion). The plates move: compute it again every step. Set as the world's damping frame
 /// (World::set_damping_frame) while the plates shear the specimen, local damping brakes only the
 /// motion about uniform shear, not the layers that move with a plate (docs/model.md 3.1, 8).
 DampingFrame plate_damping_frame(const World& world, const ShearCell& cell);
