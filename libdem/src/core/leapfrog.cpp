@@ -28,14 +28,11 @@ inline void leapfrog_one(ParticleStore& p, const LeapfrogStep& step, std::int64_
   if (p.clump[i] >= 0) return;
   const std::uint8_t fixed = p.fixed[i];
   const double alpha = step.local_damping, dt = step.dt;
-  Vec3 force, torque;
-  if (step.frame == nullptr) {
-    force = damped(p.f[i] + step.gravity / p.inv_mass[i], p.v[i], alpha);
-    torque = damped(p.t[i], p.w[i], alpha);
-  } else {
-    force = damped(p.f[i] + step.gravity / p.inv_mass[i], p.v[i] - step.frame->velocity_at(p.x[i]), alpha);
-    torque = damped(p.t[i], p.w[i] - step.frame->spin(), alpha);
-  }
+  const DampingFrame* frame = step.frame;  // velocities relative to it decide the damping's sign
+  const Vec3 velocity = frame ? Vec3(p.v[i] - frame->velocity_at(p.x[i])) : p.v[i];
+  const Vec3 spin = frame ? Vec3(p.w[i] - frame->spin()) : p.w[i];
+  const Vec3 force = damped(p.f[i] + step.gravity / p.inv_mass[i], velocity, alpha);
+  const Vec3 torque = damped(p.t[i], spin, alpha);
   if (fixed == 0) {
     p.v[i] += force * (p.inv_mass[i] * dt);
     p.w[i] += torque * (p.inv_inertia[i] * dt);

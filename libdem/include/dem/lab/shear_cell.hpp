@@ -63,9 +63,10 @@ void move_rings(World& world, const ShearCell& cell, bool specimen_made);
 
 /// The plates' affine field: each plate's velocity at its height (the bottom plate's surface, built
 /// at z = 0, moved by its displacement), interpolated linearly between them (uniform simple shear,
-/// and the servo's vertical motion). The plates move: compute it again every step. Set as the world's damping frame
-/// (World::set_damping_frame) while the plates shear the specimen, local damping brakes only the
-/// motion about uniform shear, not the layers that move with a plate (docs/model.md 3.1, 8).
+/// and the servo's vertical motion). Set as the world's damping frame (World::set_damping_frame)
+/// while the plates shear the specimen, local damping brakes only the motion about uniform shear,
+/// not the layers that move with a plate (docs/model.md 3.1, 8). The plates move: compute it again
+/// every step.
 DampingFrame plate_damping_frame(const World& world, const ShearCell& cell);
 
 /// Frees the rings for the test, never in rotation: Follow, Sand and Fixed rings move freely in x
