@@ -22,6 +22,7 @@
 #include <dem/geometry/mesh.hpp>
 #include <dem/geometry/stl.hpp>
 #include <dem/io/atomic_file.hpp>
+#include <dem/io/world_state.hpp>
 #include <dem/measure/measurement_sphere.hpp>
 
 #include "bindings.hpp"
@@ -382,12 +383,12 @@ void bind_engine(py::module_& m) {
              return measurement(dem::measure::measure(w, s));
            }, py::arg("centre"), py::arg("radius"), "A measurement sphere (docs/model.md 6): stresses in Pa, tension positive")
       .def("save_state", [](const World& w, const std::filesystem::path& file) {
-             io::write_atomically_binary(file, [&](std::ostream& out) { w.save_state(out); });
+             io::write_atomically_binary(file, [&](std::ostream& out) { io::write_world_state(out, w); });
            }, py::arg("file"), "The complete dynamic state, written atomically; models and controllers are code, not state")
       .def("load_state", [](World& w, const std::filesystem::path& file) {
              std::ifstream in(file, std::ios::binary);
              require(static_cast<bool>(in), "state file", file.string(), "a readable file written by save_state");
-             w.load_state(in);
+             io::read_world_state(in, w);
            }, py::arg("file"));
 }
 

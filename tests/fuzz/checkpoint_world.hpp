@@ -24,7 +24,7 @@ inline World checkpoint_world() {
 
 // The restart-file frame, written here from the format description in io/checkpoint.hpp (magic,
 // version, payload size, payload, checksum of the payload): the target wraps fuzzed payloads in
-// a valid frame so that mutations reach World::load_state instead of stopping at the checksum.
+// a valid frame so that mutations reach io::read_world_state instead of stopping at the checksum.
 inline constexpr std::string_view checkpoint_magic = "LIBDEMCK";
 inline constexpr std::size_t checkpoint_header = 8 + 4 + 8;
 

@@ -1,8 +1,8 @@
 // Fuzz target: the restart-file reader, io::load_checkpoint into a World with the simple-shear
 // laws. First byte even: the rest is the file as it is (damaged frames, wrong versions, bad
 // checksums). Odd: the rest is a payload that gets a valid frame and checksum, so that mutations
-// exercise World::load_state itself, as a file written by a buggy or foreign writer would.
-// An accepted state must then step without crashing: load_state validates indices for that.
+// exercise io::read_world_state itself, as a file written by a buggy or foreign writer would.
+// An accepted state must then step without crashing: read_world_state validates indices for that.
 #include <cstddef>
 #include <cstdint>
 #include <string>

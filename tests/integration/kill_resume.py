@@ -20,7 +20,7 @@ Usage: kill_resume.py DEM_SIMPLE_SHEAR WORK_DIR [SEED]   (tests/ctest/kill_resum
 
 The random delays come from SEED (default 8, or LIBDEM_KILL_SEED), printed for reproduction: a
 seed gives the same delays, though the step they land on depends on the machine's speed. The World
-state comparison reads the field layout of World::save_state (world_fields below): a change of
+state comparison reads the field layout of io::write_world_state (world_fields below): a change of
 that layout must be made there too. Only the Python standard library is used.
 """
 import json
@@ -65,8 +65,8 @@ def restart_parts(path):
 
 
 def world_fields(state):
-    """{name: bytes} of the fields of a World state, in the order of World::save_state
-    (core/world_checkpoint.cpp): u64 counts before arrays and strings, doubles and ints raw."""
+    """{name: bytes} of the fields of a World state, in the order of io::write_world_state
+    (io/world_state.cpp): u64 counts before arrays and strings, doubles and ints raw."""
     fields, at = {}, 0
 
     def take(name, size):

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include <dem/io/checkpoint.hpp>
+#include <dem/io/world_state.hpp>
 
 #include "fuzz/checkpoint_world.hpp"
 #include "support/scenes.hpp"
@@ -65,7 +66,7 @@ fs::path temp_file(const std::string& name) {
 
 std::string state_of(const World& world) {
   std::ostringstream out(std::ios::binary);
-  world.save_state(out);
+  io::write_world_state(out, world);
   return out.str();
 }
 
@@ -115,7 +116,7 @@ TEST_CASE("checkpoint: a loaded state saves the same bytes, and a resumed run en
   World resumed(WorldSettings{.threads = threads});
   set_models(resumed);
   std::istringstream in(saved, std::ios::binary);
-  resumed.load_state(in);
+  io::read_world_state(in, resumed);
   CHECK(first_difference(state_of(resumed), saved) == "same");
   const std::int64_t rebuilds = world.rebuild_count();
   world.step(3), resumed.step(3);
@@ -202,7 +203,7 @@ World small_scene(bool pebble_pebble = false) {
 /// The payload of a restart file: an empty protocol state, then the world state.
 std::string payload_of(const World& world) {
   std::ostringstream state(std::ios::binary);
-  world.save_state(state);
+  io::write_world_state(state, world);
   std::string payload;
   fuzz::append_raw(payload, std::uint64_t{0});
   return payload + state.str();
@@ -231,7 +232,7 @@ std::string refusal(const std::string& payload) {
 
 std::string refusal(const World& world) { return refusal(payload_of(world)); }
 
-// Byte offsets in the payload of small_scene(), from the format in World::save_state.
+// Byte offsets in the payload of small_scene(), from the format in io::write_world_state.
 constexpr std::size_t state_start = 8 + 3 * (8 + 14);  // protocol size, three "rolling-linear" law names
 constexpr std::size_t pebble_pebble_at = state_start + 3 * 8 + 3 * 8 + 24 + 8 + 4 + 2 * 8;
 std::size_t particle_id_count_at(std::size_t n) { return pebble_pebble_at + 1 + 5 * (8 + 24 * n) + 4 * (8 + 8 * n); }

@@ -22,8 +22,9 @@ const ContactModel& model_for(const std::shared_ptr<const ContactModel>& model, 
   return *model;
 }
 
-void gather(const PairContacts& c, const std::vector<std::int32_t>& offsets, const std::vector<std::int32_t>& entries,
-            const std::vector<Vec3>& x, std::size_t i, Vec3& force, Vec3& torque) {
+void gather(const PairContacts& c, const std::vector<Vec3>& x, std::size_t i, Vec3& force, Vec3& torque) {
+  const std::vector<std::int32_t>& offsets = c.incidence_offsets;
+  const std::vector<std::int32_t>& entries = c.incidence_entries;
   for (std::int32_t e = offsets[i]; e < offsets[i + 1]; ++e) {
     const auto entry = static_cast<std::size_t>(entries[static_cast<std::size_t>(e)]);
     const std::size_t k = entry >> 1;
@@ -43,11 +44,11 @@ void World::plan_gather() {
   // Re-planned after every rebuild and every few hundred steps: contacts that open or close move
   // the work between shares. The plan never changes a result, only who computes what.
   constexpr std::int64_t replan_every = 250;
-  if (!gather_plan_stale_ && gathered_.size() == particles_.size() && steps_ - gather_planned_at_ < replan_every) return;
-  const std::size_t n = particles_.size();
+  if (!gather_plan_stale_ && gathered_.size() == state_.particles.size() && state_.clock.steps - gather_planned_at_ < replan_every) return;
+  const std::size_t n = state_.particles.size();
   gathered_.assign(n, 0);
   std::vector<std::int32_t> owner;
-  for (PairContacts* c : {&ball_ball_, &ball_pebble_}) {
+  for (PairContacts* c : {&state_.contacts.ball_ball, &state_.contacts.ball_pebble}) {
     const auto count = static_cast<std::int64_t>(c->size());
     const int threads = threads_for(count, threads_);
     // Equal work per share: a touching contact costs about four separated near candidates, and
@@ -82,17 +83,17 @@ void World::plan_gather() {
   for (std::size_t i = 0; i < n; ++i)
     if (gathered_[i]) gathered_list_.push_back(static_cast<std::int32_t>(i));
   gather_plan_stale_ = false;
-  gather_planned_at_ = steps_;
+  gather_planned_at_ = state_.clock.steps;
 }
 
 void World::compute_forces() {
   KernelContext ctx;
-  ctx.particles = &particles_;
-  ctx.walls = &walls_;
-  ctx.dt = dt_;
+  ctx.particles = &state_.particles;
+  ctx.walls = &state_.walls;
+  ctx.dt = state_.clock.dt;
   ctx.threads = threads_;
 
-  ParticleStore& p = particles_;
+  ParticleStore& p = state_.particles;
   const auto n = static_cast<std::int64_t>(p.size());
 #pragma omp parallel for schedule(static) num_threads(threads_for(n, threads_))
   for (std::int64_t i = 0; i < n; ++i) {
@@ -101,7 +102,7 @@ void World::compute_forces() {
   }
   ctx.scatter_force = p.f.data();
   ctx.scatter_torque = p.t.data();
-  const bool parallel = threads_for(static_cast<std::int64_t>(ball_ball_.size()), threads_) > 1;
+  const bool parallel = threads_for(static_cast<std::int64_t>(state_.contacts.ball_ball.size()), threads_) > 1;
   if (parallel) {
     plan_gather();
     ctx.gathered = gathered_.data();
@@ -114,11 +115,11 @@ void World::compute_forces() {
     lap = now;
   };
   time_into(timing_.force_sums);
-  if (ball_ball_.size() > 0) model_for(models_[0], ContactKind::BallBall).compute(ball_ball_, ctx, worst_bb);
+  if (state_.contacts.ball_ball.size() > 0) model_for(models_[0], ContactKind::BallBall).compute(state_.contacts.ball_ball, ctx, worst_bb);
   time_into(timing_.ball_ball);
-  if (ball_pebble_.size() > 0) model_for(models_[2], ContactKind::BallPebble).compute(ball_pebble_, ctx, worst_bp);
+  if (state_.contacts.ball_pebble.size() > 0) model_for(models_[2], ContactKind::BallPebble).compute(state_.contacts.ball_pebble, ctx, worst_bp);
   time_into(timing_.ball_pebble);
-  if (wall_contacts_.size() > 0) model_for(models_[1], ContactKind::BallFacet).compute(wall_contacts_, ctx, worst_wall);
+  if (state_.contacts.ball_facet.size() > 0) model_for(models_[1], ContactKind::BallFacet).compute(state_.contacts.ball_facet, ctx, worst_wall);
   time_into(timing_.ball_facet);
 
   if (parallel) {
@@ -127,24 +128,24 @@ void World::compute_forces() {
     for (std::int64_t s = 0; s < gathered; ++s) {
       const auto i = static_cast<std::size_t>(gathered_list_[static_cast<std::size_t>(s)]);
       Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
-      gather(ball_ball_, bb_offsets_, bb_entries_, p.x, i, force, torque);
-      gather(ball_pebble_, bp_offsets_, bp_entries_, p.x, i, force, torque);
+      gather(state_.contacts.ball_ball, p.x, i, force, torque);
+      gather(state_.contacts.ball_pebble, p.x, i, force, torque);
       p.f[i] = force;
       p.t[i] = torque;
     }
   }
 
-  for (auto& w : walls_) {
+  for (auto& w : state_.walls) {
     w.force.setZero();
     w.moment.setZero();
     w.contact_count = 0;
     w.stiffness_sum = 0.0;
   }
-  const WallContacts& wc = wall_contacts_;
+  const WallContacts& wc = state_.contacts.ball_facet;
   for (std::size_t k = 0; k < wc.size(); ++k) {
     if (wc.normal_stiffness[k] == 0.0) continue;
     const auto b = static_cast<std::size_t>(wc.ball[k]);
-    FacetWall& w = walls_[static_cast<std::size_t>(wc.wall[k])];
+    FacetWall& w = state_.walls[static_cast<std::size_t>(wc.wall[k])];
     p.f[b] -= wc.force[k];
     p.t[b] += wc.torque_ball[k];
     w.force += wc.force[k];

@@ -21,16 +21,16 @@ using detail::damped;
 using detail::masked_add;
 
 void World::integrate() {
-  ParticleStore& p = particles_;
-  const double alpha = settings_.local_damping;
-  const Vec3 g = settings_.gravity;
-  const double dt = dt_;
+  ParticleStore& p = state_.particles;
+  const double alpha = state_.settings.local_damping;
+  const Vec3 g = state_.settings.gravity;
+  const double dt = state_.clock.dt;
   const auto n = static_cast<std::int64_t>(p.size());
-  const double step_ratio = settings_.max_step_travel_ratio;
-  // x_at_near_ is current: step() refreshed the near lists before the forces
+  const double step_ratio = state_.settings.max_step_travel_ratio;
+  // broad_phase_.positions_at_near() is current: step() refreshed the near lists before the forces
   const DampingFrame* frame = damping_frame_.at_rest() ? nullptr : &damping_frame_;
-  const detail::LeapfrogStep leapfrog_step{g, alpha, dt, step_ratio * step_ratio, x_at_rebuild_.data(), x_at_near_.data(), frame};
-  double travel_sq = max_travel_sq_, near_travel_sq = max_near_travel_sq_;
+  const detail::LeapfrogStep leapfrog_step{g, alpha, dt, step_ratio * step_ratio, state_.rebuild.x_at_rebuild.data(), broad_phase_.positions_at_near().data(), frame};
+  double travel_sq = state_.rebuild.max_travel_sq, near_travel_sq = broad_phase_.near_travel_sq();
   std::int64_t bad = std::numeric_limits<std::int64_t>::max();
 
   // Each thread a contiguous range of whole groups of eight (the kernel's SIMD width): a
@@ -51,8 +51,8 @@ void World::integrate() {
     near_travel_sq = tally.near_travel_sq;
     bad = tally.first_unstable;
   }
-  max_travel_sq_ = travel_sq;
-  max_near_travel_sq_ = near_travel_sq;
+  state_.rebuild.max_travel_sq = travel_sq;
+  broad_phase_.set_near_travel_sq(near_travel_sq);
   if (bad != std::numeric_limits<std::int64_t>::max()) {
     const auto i = static_cast<std::size_t>(bad);
     std::ostringstream what;
@@ -61,18 +61,18 @@ void World::integrate() {
       what << "its position or velocity became NaN or infinite";
     else
       what << "it moved " << p.v[i].norm() * dt / p.radius[i] << " radii in one step (limit "
-           << settings_.max_step_travel_ratio << ", speed " << p.v[i].norm() << " m/s)";
+           << state_.settings.max_step_travel_ratio << ", speed " << p.v[i].norm() << " m/s)";
     fail(what.str(), i);
   }
 
   // Clumps: rigid bodies driven by the forces on their pebbles (docs/model.md 4). Each clump is
   // its own: they run in parallel (a ring stack has thousands of pebbles), each summing its
   // pebbles in order.
-  const auto clump_count = static_cast<std::int64_t>(clumps_.size());
+  const auto clump_count = static_cast<std::int64_t>(state_.clumps.size());
   std::int64_t bad_clump = clump_count;
 #pragma omp parallel for schedule(static) num_threads(threads_for(pebble_count(), threads_)) reduction(min : bad_clump)
   for (std::int64_t ci = 0; ci < clump_count; ++ci) {
-    Clump& c = clumps_[static_cast<std::size_t>(ci)];
+    Clump& c = state_.clumps[static_cast<std::size_t>(ci)];
     Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
     for (ParticleId pid : c.pebbles) {
       const std::size_t i = p.index_of(pid);
@@ -101,37 +101,37 @@ void World::integrate() {
       bad_clump = std::min(bad_clump, ci);
   }
   if (bad_clump < clump_count)
-    fail("its clump became NaN or infinite", p.index_of(clumps_[static_cast<std::size_t>(bad_clump)].pebbles.front()));
-  if (!clumps_.empty()) update_pebbles();
+    fail("its clump became NaN or infinite", p.index_of(state_.clumps[static_cast<std::size_t>(bad_clump)].pebbles.front()));
+  if (!state_.clumps.empty()) update_pebbles();
 
-  for (std::size_t w = 0; w < walls_.size(); ++w) {
-    FacetWall& wall = walls_[w];
+  for (std::size_t w = 0; w < state_.walls.size(); ++w) {
+    FacetWall& wall = state_.walls[w];
     if (wall.velocity.isZero(0.0)) continue;
     const Vec3 move = wall.velocity * dt;
     for (Vec3& v : wall.mesh.vertices) v += move;
     wall.reference_point += move;
     wall.displacement += move;
-    if (w < wall_disp_at_rebuild_.size())
-      max_wall_travel_ = std::max(max_wall_travel_, (wall.displacement - wall_disp_at_rebuild_[w]).norm());
+    if (w < state_.rebuild.wall_disp_at_rebuild.size())
+      state_.rebuild.max_wall_travel = std::max(state_.rebuild.max_wall_travel, (wall.displacement - state_.rebuild.wall_disp_at_rebuild[w]).norm());
     else
-      need_rebuild_ = true;
+      state_.rebuild.need_rebuild = true;
   }
 }
 
 std::int64_t World::pebble_count() const {
   std::int64_t count = 0;
-  for (const Clump& c : clumps_) count += static_cast<std::int64_t>(c.pebbles.size());
+  for (const Clump& c : state_.clumps) count += static_cast<std::int64_t>(c.pebbles.size());
   return count;
 }
 
 void World::update_pebbles() {
-  ParticleStore& p = particles_;
-  double travel_sq = max_travel_sq_, near_travel_sq = max_near_travel_sq_;
-  const auto clump_count = static_cast<std::int64_t>(clumps_.size());
+  ParticleStore& p = state_.particles;
+  double travel_sq = state_.rebuild.max_travel_sq, near_travel_sq = broad_phase_.near_travel_sq();
+  const auto clump_count = static_cast<std::int64_t>(state_.clumps.size());
 #pragma omp parallel for schedule(static) num_threads(threads_for(pebble_count(), threads_)) \
     reduction(max : travel_sq, near_travel_sq)
   for (std::int64_t ci = 0; ci < clump_count; ++ci) {
-    const Clump& c = clumps_[static_cast<std::size_t>(ci)];
+    const Clump& c = state_.clumps[static_cast<std::size_t>(ci)];
     const Mat3 r = c.orientation.toRotationMatrix();
     for (std::size_t k = 0; k < c.pebbles.size(); ++k) {
       const std::size_t i = p.index_of(c.pebbles[k]);
@@ -139,41 +139,41 @@ void World::update_pebbles() {
       p.x[i] = c.x + arm;
       p.v[i] = c.v + c.w.cross(arm);
       p.w[i] = c.w;
-      if (i < x_at_rebuild_.size()) travel_sq = std::max(travel_sq, (p.x[i] - x_at_rebuild_[i]).squaredNorm());
-      if (i < x_at_near_.size()) near_travel_sq = std::max(near_travel_sq, (p.x[i] - x_at_near_[i]).squaredNorm());
+      if (i < state_.rebuild.x_at_rebuild.size()) travel_sq = std::max(travel_sq, (p.x[i] - state_.rebuild.x_at_rebuild[i]).squaredNorm());
+      if (i < broad_phase_.positions_at_near().size()) near_travel_sq = std::max(near_travel_sq, (p.x[i] - broad_phase_.positions_at_near()[i]).squaredNorm());
     }
   }
-  max_travel_sq_ = travel_sq;
-  max_near_travel_sq_ = near_travel_sq;
+  state_.rebuild.max_travel_sq = travel_sq;
+  broad_phase_.set_near_travel_sq(near_travel_sq);
 }
 
 void World::check_stability(const OverlapMonitor& worst, ContactKind kind) {
-  if (worst.ratio <= settings_.max_overlap_ratio) return;
+  if (worst.ratio <= state_.settings.max_overlap_ratio) return;
   const auto k = static_cast<std::size_t>(worst.contact);
   std::ostringstream what;
   what.precision(4);
   std::size_t ball = 0;
   if (kind == ContactKind::BallFacet) {
-    ball = static_cast<std::size_t>(wall_contacts_.ball[k]);
-    what << "it overlaps wall '" << walls_[static_cast<std::size_t>(wall_contacts_.wall[k])].name << "' by "
+    ball = static_cast<std::size_t>(state_.contacts.ball_facet.ball[k]);
+    what << "it overlaps wall '" << state_.walls[static_cast<std::size_t>(state_.contacts.ball_facet.wall[k])].name << "' by "
          << worst.ratio << " of its radius";
   } else {
-    const PairContacts& c = kind == ContactKind::BallBall ? ball_ball_ : ball_pebble_;
+    const PairContacts& c = kind == ContactKind::BallBall ? state_.contacts.ball_ball : state_.contacts.ball_pebble;
     ball = static_cast<std::size_t>(c.first[k]);
     what << "it overlaps " << (kind == ContactKind::BallBall ? "ball" : "pebble") << " id "
-         << particles_.id[static_cast<std::size_t>(c.second[k])] << " by " << worst.ratio
+         << state_.particles.id[static_cast<std::size_t>(c.second[k])] << " by " << worst.ratio
          << " of the smaller radius";
   }
-  what << " (limit " << settings_.max_overlap_ratio << ")";
+  what << " (limit " << state_.settings.max_overlap_ratio << ")";
   fail(what.str(), ball, kind);
 }
 
 void World::fail(const std::string& what, std::size_t i, std::optional<ContactKind> kind) const {
   std::ostringstream msg;
   msg.precision(4);
-  const Vec3& x = particles_.x[i];
-  msg << "simulation unstable at step " << steps_ << " (t = " << time_ << " s): ball id " << particles_.id[i]
-      << " at (" << x.x() << ", " << x.y() << ", " << x.z() << ") m, radius " << particles_.radius[i] << " m: " << what << ". ";
+  const Vec3& x = state_.particles.x[i];
+  msg << "simulation unstable at step " << state_.clock.steps << " (t = " << state_.clock.time << " s): ball id " << state_.particles.id[i]
+      << " at (" << x.x() << ", " << x.y() << ", " << x.z() << ") m, radius " << state_.particles.radius[i] << " m: " << what << ". ";
   double critical = std::numeric_limits<double>::quiet_NaN();
   try {
     critical = critical_time_step();
@@ -190,8 +190,8 @@ void World::fail(const std::string& what, std::size_t i, std::optional<ContactKi
     if (model == nullptr) continue;
     ContactKinematics c{};
     c.kind = k;
-    c.radius_1 = particles_.radius[i];
-    c.radius_2 = k == ContactKind::BallFacet ? 0.0 : particles_.radius[i];
+    c.radius_1 = state_.particles.radius[i];
+    c.radius_2 = k == ContactKind::BallFacet ? 0.0 : state_.particles.radius[i];
     c.effective_radius = k == ContactKind::BallFacet ? c.radius_1 : c.radius_1 / 2;
     c.normal = Vec3::UnitZ();
     const double kn = model->stiffness(c).normal;
@@ -200,13 +200,13 @@ void World::fail(const std::string& what, std::size_t i, std::optional<ContactKi
   }
   if (!std::isfinite(critical) || stiffness.tellp() == 0) {
     msg << "Likely cause: no contact bounds the time step here (no contact law, or none touching), so the "
-           "time step " << dt_ << " s is too large for the speeds given to the balls. Reduce time_step or the speeds.";
-  } else if (dt_ > critical) {
-    msg << "Likely cause: the time step " << dt_ << " s is above the stable estimate " << critical
+           "time step " << state_.clock.dt << " s is too large for the speeds given to the balls. Reduce time_step or the speeds.";
+  } else if (state_.clock.dt > critical) {
+    msg << "Likely cause: the time step " << state_.clock.dt << " s is above the stable estimate " << critical
         << " s for the contact stiffness and mass (normal stiffness for this ball: " << stiffness.str()
         << "). Reduce time_step or time_step_safety.";
   } else {
-    msg << "The time step " << dt_ << " s is below the stable estimate " << critical << " s";
+    msg << "The time step " << state_.clock.dt << " s is below the stable estimate " << critical << " s";
     if (stiffest) msg << " (set by the stiffest contact type, " << to_string(*stiffest) << ")";
     msg << ", so the step is not the cause. Normal stiffness for this ball: " << stiffness.str() << ". Likely cause: ";
     if (kind && stiffest && *kind != *stiffest)

@@ -10,12 +10,12 @@ namespace dem {
 
 const PairContacts& World::pair_contacts(ContactKind kind) const {
   require(kind != ContactKind::BallFacet, "pair_contacts kind", to_string(kind), "ball-ball or ball-pebble");
-  return kind == ContactKind::BallBall ? ball_ball_ : ball_pebble_;
+  return kind == ContactKind::BallBall ? state_.contacts.ball_ball : state_.contacts.ball_pebble;
 }
 
 void World::for_each_contact(const std::function<void(const ContactView&)>& visit) const {
-  const ParticleStore& p = particles_;
-  for (const PairContacts* c : {&ball_ball_, &ball_pebble_}) {
+  const ParticleStore& p = state_.particles;
+  for (const PairContacts* c : {&state_.contacts.ball_ball, &state_.contacts.ball_pebble}) {
     for (std::size_t k = 0; k < c->size() && k < c->normal_force.size(); ++k) {
       if (c->normal_force[k] <= 0.0) continue;
       const auto i = static_cast<std::size_t>(c->first[k]);
@@ -28,7 +28,7 @@ void World::for_each_contact(const std::function<void(const ContactView&)>& visi
       visit(v);
     }
   }
-  const WallContacts& wc = wall_contacts_;
+  const WallContacts& wc = state_.contacts.ball_facet;
   for (std::size_t k = 0; k < wc.size() && k < wc.normal_force.size(); ++k) {
     if (wc.normal_force[k] <= 0.0) continue;
     const auto i = static_cast<std::size_t>(wc.ball[k]);
@@ -39,29 +39,29 @@ void World::for_each_contact(const std::function<void(const ContactView&)>& visi
 }
 
 std::size_t World::contact_count(ContactKind kind) const {
-  const std::vector<double>& forces = kind == ContactKind::BallFacet ? wall_contacts_.normal_force
+  const std::vector<double>& forces = kind == ContactKind::BallFacet ? state_.contacts.ball_facet.normal_force
                                                                      : pair_contacts(kind).normal_force;
   return static_cast<std::size_t>(std::count_if(forces.begin(), forces.end(), [](double f) { return f > 0.0; }));
 }
 
 double World::kinetic_energy() const {
-  const ParticleStore& p = particles_;
+  const ParticleStore& p = state_.particles;
   double energy = 0.0;
   for (std::size_t i = 0; i < p.size(); ++i) {
     if (p.is_pebble(i)) continue;
     energy += 0.5 * p.mass[i] * p.v[i].squaredNorm() + 0.5 / p.inv_inertia[i] * p.w[i].squaredNorm();
   }
-  for (const Clump& c : clumps_) energy += 0.5 * c.mass * c.v.squaredNorm() + 0.5 * c.w.dot(c.inertia_world() * c.w);
+  for (const Clump& c : state_.clumps) energy += 0.5 * c.mass * c.v.squaredNorm() + 0.5 * c.w.dot(c.inertia_world() * c.w);
   return energy;
 }
 
 double World::unbalanced_force_ratio() const {
-  const ParticleStore& p = particles_;
+  const ParticleStore& p = state_.particles;
   double unbalanced = 0.0;
   std::size_t balls = 0;
   for (std::size_t i = 0; i < p.size(); ++i) {
     if (p.is_pebble(i) || p.fixed[i] == dof_all) continue;
-    unbalanced += (p.f[i] + settings_.gravity * p.mass[i]).norm();
+    unbalanced += (p.f[i] + state_.settings.gravity * p.mass[i]).norm();
     ++balls;
   }
   double contact = 0.0;
@@ -75,15 +75,15 @@ double World::unbalanced_force_ratio() const {
 }
 
 double World::critical_time_step() const {
-  const ParticleStore& p = particles_;
+  const ParticleStore& p = state_.particles;
   const std::size_t n = p.size();
   std::vector<double> k_trans(n, 0.0), k_rot(n, 0.0);
-  std::vector<double> clump_trans(clumps_.size(), 0.0), clump_rot(clumps_.size(), 0.0);
+  std::vector<double> clump_trans(state_.clumps.size(), 0.0), clump_rot(state_.clumps.size(), 0.0);
 
   auto add = [&](std::size_t i, const ContactStiffness& s, double arm) {
     if (p.is_pebble(i)) {
       const auto c = static_cast<std::size_t>(p.clump[i]);
-      const double lever = (p.x[i] - clumps_[c].x).norm() + arm;
+      const double lever = (p.x[i] - state_.clumps[c].x).norm() + arm;
       clump_trans[c] += s.normal + s.shear;
       clump_rot[c] += s.shear * lever * lever + s.rolling;
     } else {
@@ -100,7 +100,7 @@ double World::critical_time_step() const {
     k.normal = Vec3::UnitZ();
     return k;
   };
-  for (const PairContacts* c : {&ball_ball_, &ball_pebble_}) {
+  for (const PairContacts* c : {&state_.contacts.ball_ball, &state_.contacts.ball_pebble}) {
     const ContactModel* model = contact_model(c->kind);
     if (model == nullptr) continue;
     for (std::size_t k = 0; k < c->size() && k < c->normal_force.size(); ++k) {
@@ -113,9 +113,9 @@ double World::critical_time_step() const {
     }
   }
   if (const ContactModel* model = contact_model(ContactKind::BallFacet)) {
-    for (std::size_t k = 0; k < wall_contacts_.size() && k < wall_contacts_.normal_force.size(); ++k) {
-      if (wall_contacts_.normal_force[k] <= 0.0) continue;
-      const auto i = static_cast<std::size_t>(wall_contacts_.ball[k]);
+    for (std::size_t k = 0; k < state_.contacts.ball_facet.size() && k < state_.contacts.ball_facet.normal_force.size(); ++k) {
+      if (state_.contacts.ball_facet.normal_force[k] <= 0.0) continue;
+      const auto i = static_cast<std::size_t>(state_.contacts.ball_facet.ball[k]);
       add(i, model->stiffness(kinematics(ContactKind::BallFacet, p.radius[i], 0.0)), p.radius[i]);
     }
   }
@@ -129,9 +129,9 @@ double World::critical_time_step() const {
     if (k_rot[i] > 0.0) dt = std::min(dt, std::sqrt(1.0 / (p.inv_inertia[i] * k_rot[i])));
     if (p.radius[i] < smallest) smallest = p.radius[i], smallest_index = i;
   }
-  for (std::size_t c = 0; c < clumps_.size(); ++c) {
-    if (clump_trans[c] > 0.0) dt = std::min(dt, std::sqrt(clumps_[c].mass / clump_trans[c]));
-    const double inertia = clumps_[c].inertia_body.diagonal().minCoeff();
+  for (std::size_t c = 0; c < state_.clumps.size(); ++c) {
+    if (clump_trans[c] > 0.0) dt = std::min(dt, std::sqrt(state_.clumps[c].mass / clump_trans[c]));
+    const double inertia = state_.clumps[c].inertia_body.diagonal().minCoeff();
     if (clump_rot[c] > 0.0) dt = std::min(dt, std::sqrt(inertia / clump_rot[c]));
   }
   // A ball with a single contact, so that a loose packing (no contacts yet) gets a time step too.

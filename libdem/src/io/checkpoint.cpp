@@ -8,6 +8,7 @@
 
 #include <dem/core/errors.hpp>
 #include <dem/io/atomic_file.hpp>
+#include <dem/io/world_state.hpp>
 
 namespace dem::io {
 
@@ -37,7 +38,7 @@ void save_checkpoint(const std::filesystem::path& path, const World& world, cons
   const std::uint64_t text_size = protocol_state.size();
   put(payload, text_size);
   payload.write(protocol_state.data(), static_cast<std::streamsize>(text_size));
-  world.save_state(payload);
+  write_world_state(payload, world);
   const std::string data = payload.str();
   write_atomically_binary(path, [&](std::ostream& out) {
     out.write(magic, sizeof magic);
@@ -89,7 +90,7 @@ std::string load_checkpoint(const std::filesystem::path& path, World& world) {
   std::string text(text_size, '\0');
   payload.read(text.data(), static_cast<std::streamsize>(text_size));
   try {
-    world.load_state(payload);
+    read_world_state(payload, world);
   } catch (const InputError& e) {
     throw InputError("restart file " + path.string() + ": " + e.what());
   }

@@ -14,6 +14,7 @@
 // so a new law costs no engine edit and no virtual call per contact.
 #pragma once
 
+#include <array>
 #include <concepts>
 #include <memory>
 #include <new>
@@ -73,6 +74,9 @@ class ContactModel {
   virtual void remap_states(const StateBuffer& source, const std::vector<std::int64_t>& source_of,
                             StateBuffer& target) const = 0;
 };
+
+/// The law of each contact kind, indexed by ContactKind (null: none set).
+using ContactModelTable = std::array<std::shared_ptr<const ContactModel>, contact_kind_count>;
 
 /// Binds a law to its parameters (validated here; `where` names them in errors, e.g. "ball-ball").
 template <ContactLaw Law>

@@ -51,6 +51,10 @@ struct PairContacts {
   /// With several threads, thread t takes the contacts [shares[t], shares[t + 1]) (planned by
   /// the World, weighted by which contacts touch, so that the threads finish together).
   std::vector<std::int64_t> shares;
+  /// Per-particle incidence (CSR) for the fixed-order force gather: particle i's contacts are the
+  /// entries [incidence_offsets[i], incidence_offsets[i + 1]) of incidence_entries, each
+  /// contact * 2 + side (side 1: i is piece 2), in contact order. Made with the list.
+  std::vector<std::int32_t> incidence_offsets, incidence_entries;
   std::size_t size() const { return first.size(); }
 };
 

@@ -22,38 +22,17 @@
 #include <array>
 #include <cstdint>
 #include <functional>
-#include <iosfwd>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include <dem/boundary/clump.hpp>
-#include <dem/boundary/facet_wall.hpp>
 #include <dem/contact/contact_model.hpp>
-#include <dem/contact/contact_sets.hpp>
+#include <dem/core/broad_phase.hpp>
 #include <dem/core/damping_frame.hpp>
-#include <dem/core/particles.hpp>
-#include <dem/grid/cell_grid.hpp>
+#include <dem/core/world_state.hpp>
 
 namespace dem {
-
-struct WorldSettings {
-  double time_step = 0.0;            // s; 0: estimated from stiffnesses and masses (docs/model.md 3.2)
-  double time_step_safety = 0.8;     // -, dt = safety * critical estimate
-  double local_damping = 0.7;        // -, PFC local damping alpha (0 for dynamic problems)
-  Vec3 gravity = Vec3::Zero();       // m/s^2
-  double skin = 0.0;                 // m, Verlet skin; 0: half the smallest ball radius
-  double near_skin = 0.0;            // m, the pair loops skip candidates farther apart than this,
-                                     //    refreshing the list as particles move; 0: a fifth of the
-                                     //    skin. Speed only: results do not depend on it
-  int sort_every = 20;               // re-sort particles in cell order every this many rebuilds (0: never)
-  int threads = 0;                   // 0: OpenMP default (OMP_NUM_THREADS)
-  double max_overlap_ratio = 1.0;    // -, overlap / smaller radius that stops the run as unstable
-                                     //    (soft calibrated sands reach 0.5 in strong force chains)
-  double max_step_travel_ratio = 0.25;  // -, distance moved in one step / radius that stops the run
-  bool pebble_pebble_contacts = false;  // contacts between pebbles of different clumps (ball-pebble law)
-};
 
 /// Wall-clock seconds spent in each part of the step, summed over the steps since the World was
 /// made or reset_step_timing() (not part of the saved state). For benchmarks: where a step's time
@@ -94,7 +73,7 @@ class World {
   /// their history are kept as they are, with no rebuild, so a restored state continues exactly
   /// as the run that wrote it. InputError for another law or for a kind without a law.
   void retune_contact_model(ContactKind kind, std::shared_ptr<const ContactModel> model);
-  const ContactModel* contact_model(ContactKind kind) const { return models_[static_cast<int>(kind)].get(); }
+  const ContactModel* contact_model(ContactKind kind) const { return models_[static_cast<std::size_t>(kind)].get(); }
 
   // --- running ------------------------------------------------------------------------------
   /// Advances n steps.
@@ -107,9 +86,9 @@ class World {
   /// Called after every `every` steps.
   void add_callback(std::int64_t every, std::function<void(World&)> callback);
 
-  double time() const { return time_; }                 // s
-  std::int64_t step_count() const { return steps_; }
-  double time_step() const { return dt_; }              // s (0 until the first step if automatic)
+  double time() const { return state_.clock.time; }     // s
+  std::int64_t step_count() const { return state_.clock.steps; }
+  double time_step() const { return state_.clock.dt; }  // s (0 until the first step if automatic)
   void set_time_step(double dt);
   /// Critical time step estimate min over bodies of sqrt(m/K) (docs/model.md 3.2), s.
   double critical_time_step() const;
@@ -121,19 +100,19 @@ class World {
   void reset_step_timing() { timing_ = {}; }
 
   // --- state ---------------------------------------------------------------------------------
-  const ParticleStore& particles() const { return particles_; }
+  const ParticleStore& particles() const { return state_.particles; }
   /// Mutable access; call invalidate_contacts() after moving particles or changing radii by hand.
-  ParticleStore& particles() { return particles_; }
-  void invalidate_contacts() { need_rebuild_ = true; }
-  const std::vector<Clump>& clumps() const { return clumps_; }
-  std::vector<Clump>& clumps() { return clumps_; }
-  const std::vector<FacetWall>& walls() const { return walls_; }
-  FacetWall& wall(WallId id) { return walls_.at(static_cast<std::size_t>(id)); }
-  const FacetWall& wall(WallId id) const { return walls_.at(static_cast<std::size_t>(id)); }
-  const WorldSettings& settings() const { return settings_; }
+  ParticleStore& particles() { return state_.particles; }
+  void invalidate_contacts() { state_.rebuild.need_rebuild = true; }
+  const std::vector<Clump>& clumps() const { return state_.clumps; }
+  std::vector<Clump>& clumps() { return state_.clumps; }
+  const std::vector<FacetWall>& walls() const { return state_.walls; }
+  FacetWall& wall(WallId id) { return state_.walls.at(static_cast<std::size_t>(id)); }
+  const FacetWall& wall(WallId id) const { return state_.walls.at(static_cast<std::size_t>(id)); }
+  const WorldSettings& settings() const { return state_.settings; }
   void set_local_damping(double alpha);
   /// The field local damping measures velocities against (DampingFrame; the fixed frame unless
-  /// set). Not saved by save_state: a protocol that uses it sets it from a controller every step
+  /// set). Not part of the WorldState: a protocol that uses it sets it from a controller every step
   /// (lab::plate_damping_frame follows a shear cell's plates), so damping_frame() between steps
   /// shows the frame of the last step.
   void set_damping_frame(const DampingFrame& frame);
@@ -141,7 +120,7 @@ class World {
   /// Overlap / smaller radius above which a step stops with InstabilityError (> 0). Restart files
   /// carry it; a protocol that loads one can raise it again afterwards.
   void set_max_overlap_ratio(double ratio);
-  void set_gravity(const Vec3& g) { settings_.gravity = g; }
+  void set_gravity(const Vec3& g) { state_.settings.gravity = g; }
 
   /// Visits every touching contact of the last step.
   void for_each_contact(const std::function<void(const ContactView&)>& visit) const;
@@ -152,24 +131,22 @@ class World {
   /// Mean |unbalanced force| over free balls divided by the mean contact normal force (PFC's ratio).
   double unbalanced_force_ratio() const;
 
-  // --- checkpoints ---------------------------------------------------------------------------
-  /// Writes the complete dynamic state (particles, clumps, walls, contact lists with their law
-  /// history, clock, time step) so that a run resumed from it continues bit for bit. Contact
-  /// models, controllers and callbacks are code, not state: the caller sets them up again.
-  void save_state(std::ostream& out) const;
-  /// Replaces the state with one written by save_state. The contact models must already be set,
-  /// with the same laws as when it was saved (checked by name). Throws InputError on a mismatch
-  /// or a truncated stream. An automatic time step more than 10 % above safety x the critical
-  /// estimate of the models now set (stiffer parameters than the saved run's) is re-estimated.
-  void load_state(std::istream& in);
-
   // --- internals exposed for checkpoints and tests --------------------------------------------
   const PairContacts& pair_contacts(ContactKind kind) const;
-  const WallContacts& wall_contacts() const { return wall_contacts_; }
-  std::int64_t rebuild_count() const { return rebuilds_; }
-  std::int64_t near_refresh_count() const { return near_refreshes_; }
+  const WallContacts& wall_contacts() const { return state_.contacts.ball_facet; }
+  std::int64_t rebuild_count() const { return state_.rebuild.rebuilds; }
+  std::int64_t near_refresh_count() const { return broad_phase_.near_refresh_count(); }
   /// Forces a neighbour-list rebuild with re-sorting now (tests of history preservation).
   void rebuild_now(bool resort);
+
+  // --- the state as data (restart files: io/world_state.hpp) --------------------------------
+  /// Everything a restart file holds (WorldState).
+  const WorldState& state() const { return state_; }
+  /// Replaces the state with `state`, which io::read_world_state has read and checked against the
+  /// contact models set now: its lists are trusted as they are. An automatic time step more than
+  /// 10 % above safety x the critical estimate of the models set now (stiffer parameters than the
+  /// saved run's) is re-estimated.
+  void restore(WorldState state);
 
  private:
   void rebuild(bool resort);
@@ -179,49 +156,19 @@ class World {
   void update_pebbles();
   std::int64_t pebble_count() const;
   void check_stability(const OverlapMonitor& pairs_worst, ContactKind pairs_kind);
-  bool needs_rebuild() const;
-  void refresh_near();
   /// InstabilityError for particle `particle`: what happened, when, and the likely cause (the
   /// time step when it is above the stable estimate; otherwise the contact type `kind` of an
   /// overlap when it is softer than the stiffest, or the load).
   [[noreturn]] void fail(const std::string& what, std::size_t particle, std::optional<ContactKind> kind = std::nullopt) const;
-  double resolved_skin() const;
 
-  WorldSettings settings_;
+  WorldState state_;
+  ContactModelTable models_{};
+  BroadPhase broad_phase_;
   DampingFrame damping_frame_;
   int threads_ = 1;
-  ParticleStore particles_;
-  std::vector<Clump> clumps_;
-  std::vector<FacetWall> walls_;
-  std::array<std::shared_ptr<const ContactModel>, contact_kind_count> models_{};
-
-  CellGrid grid_;
-  PairContacts ball_ball_, ball_pebble_;
-  WallContacts wall_contacts_;
-  // Per-particle incidence (CSR) for the fixed-order force gather: entry = contact * 2 + side.
-  std::vector<std::int32_t> bb_offsets_, bb_entries_, bp_offsets_, bp_entries_;
-  std::vector<Vec3> x_at_rebuild_;
-  std::vector<Vec3> wall_disp_at_rebuild_;
-  bool need_rebuild_ = true;
-  std::int64_t rebuilds_ = 0;
-
   std::vector<std::function<void(World&)>> controllers_;
   std::vector<std::pair<std::int64_t, std::function<void(World&)>>> callbacks_;
-
-  double dt_ = 0.0;
-  double time_ = 0.0;
-  std::int64_t steps_ = 0;
   StepTiming timing_;
-  double max_travel_sq_ = 0.0;  // largest squared displacement since the last rebuild, m^2
-  double max_wall_travel_ = 0.0;
-  double skin_ = 0.0;  // m, the skin of the current lists (resolved at each rebuild)
-  // The near lists (PairContacts::near): positions when they were made, and the largest squared
-  // displacement since. Derived state: never saved, remade after a rebuild or a load.
-  std::vector<Vec3> x_at_near_;
-  double max_near_travel_sq_ = 0.0;
-  double near_skin_ = 0.0;  // m
-  bool near_stale_ = true;
-  std::int64_t near_refreshes_ = 0;
   // With several threads: the particles whose pair contacts fall in more than one thread's share
   // (their forces are gathered from per-contact records), planned once per neighbour list.
   std::vector<std::uint8_t> gathered_;

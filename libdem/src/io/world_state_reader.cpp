@@ -1,5 +1,5 @@
-// World::load_state's readers and checks (checkpoint_reader.hpp): every value a later step trusts.
-#include "checkpoint_reader.hpp"
+// The readers and checks of io::read_world_state (world_state_reader.hpp): every value a later step trusts.
+#include "world_state_reader.hpp"
 
 #include <algorithm>
 #include <cstring>
@@ -355,7 +355,7 @@ WallContacts read_wall_contacts(Reader& r, const ContactModel* model, const Part
   return c;
 }
 
-/// The per-particle incidence lists (CSR) that World::rebuild builds from a contact list.
+/// The per-particle incidence lists (CSR) that the broad phase builds from a contact list.
 std::pair<std::vector<std::int32_t>, std::vector<std::int32_t>> incidence(const PairContacts& c, std::size_t particles) {
   std::vector<std::int32_t> offsets(particles + 1, 0), entries(2 * c.size());
   for (std::size_t k = 0; k < c.size(); ++k) {

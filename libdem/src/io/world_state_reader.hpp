@@ -1,5 +1,5 @@
-// The reading side of World::load_state: a bounded reader of the binary state and the readers
-// and checks of each part (settings, particles, clumps, walls, contacts). Private to libdem/src/core.
+// The reading side of io::read_world_state: a bounded reader of the binary state and the readers
+// and checks of each part (settings, particles, clumps, walls, contacts). Private to libdem/src/io.
 #pragma once
 
 #include <cmath>
@@ -12,7 +12,8 @@
 #include <vector>
 
 #include <dem/core/errors.hpp>
-#include <dem/core/world.hpp>
+#include <dem/contact/contact_model.hpp>
+#include <dem/core/world_state.hpp>
 
 namespace dem::checkpoint {
 

@@ -1,13 +1,14 @@
-// The broad phase of the World: Verlet lists with a skin, rebuilt only when something has moved
-// far enough to matter, with contact history carried over by stable particle ids, and the
-// per-particle incidence lists for the fixed-order force gather, and the near lists that the
-// contact loops run over.
+// The broad phase (broad_phase.hpp): Verlet lists with contact history carried over by stable
+// particle ids, the per-particle incidence lists for the fixed-order force gather, and the near
+// lists that the contact loops run over.
+#include <dem/core/broad_phase.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include <dem/core/errors.hpp>
-#include <dem/core/world.hpp>
+#include <dem/core/parallel.hpp>
 #include <dem/geometry/triangle.hpp>
 
 namespace dem {
@@ -93,8 +94,9 @@ void carry_history(const ContactModel* model, Contacts& fresh, const Contacts& o
 }
 
 /// CSR incidence: for each particle, entries (contact * 2 + side) in contact order.
-void build_incidence(const PairContacts& c, std::size_t particles, std::vector<std::int32_t>& offsets,
-                     std::vector<std::int32_t>& entries) {
+void build_incidence(PairContacts& c, std::size_t particles) {
+  std::vector<std::int32_t>& offsets = c.incidence_offsets;
+  std::vector<std::int32_t>& entries = c.incidence_entries;
   offsets.assign(particles + 1, 0);
   for (std::size_t k = 0; k < c.size(); ++k) {
     ++offsets[static_cast<std::size_t>(c.first[k]) + 1];
@@ -111,24 +113,39 @@ void build_incidence(const PairContacts& c, std::size_t particles, std::vector<s
 
 }  // namespace
 
-bool World::needs_rebuild() const {
-  const double travel = std::sqrt(max_travel_sq_);
-  return 2.0 * travel > skin_ || travel + max_wall_travel_ > skin_;
+bool BroadPhase::needs_rebuild(const RebuildRecord& record) {
+  if (record.need_rebuild) return true;
+  const double travel = std::sqrt(record.max_travel_sq);
+  return 2.0 * travel > record.skin || travel + record.max_wall_travel > record.skin;
 }
 
-void World::rebuild_now(bool resort) { rebuild(resort); }
+double resolved_skin(const WorldState& state) {
+  if (state.settings.skin > 0.0) return state.settings.skin;
+  const ParticleStore& p = state.particles;
+  double smallest = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (!p.is_pebble(i)) smallest = std::min(smallest, p.radius[i]);
+  // Half the smallest radius: rebuilds every few tens of steps in quasi-static runs, and few
+  // extra candidate pairs (the peers' benchmark inputs use the same, a quarter diameter).
+  return std::isfinite(smallest) ? 0.5 * smallest : 1e-3;
+}
 
-void World::rebuild(bool resort) {
-  ParticleStore& p = particles_;
-  const double skin = resolved_skin();
-  skin_ = skin;
+void BroadPhase::rebuild(WorldState& state, const ContactModelTable& models, int threads, bool resort) {
+  ParticleStore& p = state.particles;
+  PairContacts& ball_ball = state.contacts.ball_ball;
+  PairContacts& ball_pebble = state.contacts.ball_pebble;
+  WallContacts& ball_facet = state.contacts.ball_facet;
+  const std::vector<FacetWall>& walls = state.walls;
+  RebuildRecord& record = state.rebuild;
+  const double skin = resolved_skin(state);
+  record.skin = skin;
 
   // History of the last step, keyed by stable ids (storage indices change when re-sorting).
-  TouchingPairs old_bb(ball_ball_, p), old_bp(ball_pebble_, p);
+  TouchingPairs old_bb(ball_ball, p), old_bp(ball_pebble, p);
   std::vector<std::pair<Key, std::int64_t>> old_wall_keys;
-  for (std::size_t k = 0; k < wall_contacts_.size() && k < wall_contacts_.normal_force.size(); ++k)
-    if (wall_contacts_.normal_force[k] > 0.0)
-      old_wall_keys.emplace_back(pair_key(p.id[static_cast<std::size_t>(wall_contacts_.ball[k])], wall_contacts_.wall[k]),
+  for (std::size_t k = 0; k < ball_facet.size() && k < ball_facet.normal_force.size(); ++k)
+    if (ball_facet.normal_force[k] > 0.0)
+      old_wall_keys.emplace_back(pair_key(p.id[static_cast<std::size_t>(ball_facet.ball[k])], ball_facet.wall[k]),
                                  static_cast<std::int64_t>(k));
   std::sort(old_wall_keys.begin(), old_wall_keys.end());
 
@@ -143,7 +160,7 @@ void World::rebuild(bool resort) {
 
   // Candidate pairs, split by contact type; piece 1 is always a ball.
   std::vector<std::int32_t> first, second;
-  find_pairs(p.x, p.radius, skin, threads_, grid_, first, second);
+  find_pairs(p.x, p.radius, skin, threads, grid_, first, second);
   PairContacts bb, bp;
   bb.kind = ContactKind::BallBall;
   bp.kind = ContactKind::BallPebble;
@@ -161,7 +178,7 @@ void World::rebuild(bool resort) {
       continue;
     }
     if (a_pebble && b_pebble) {
-      if (!settings_.pebble_pebble_contacts || p.clump[static_cast<std::size_t>(a)] == p.clump[static_cast<std::size_t>(b)])
+      if (!state.settings.pebble_pebble_contacts || p.clump[static_cast<std::size_t>(a)] == p.clump[static_cast<std::size_t>(b)])
         continue;
       if (p.id[static_cast<std::size_t>(a)] > p.id[static_cast<std::size_t>(b)]) std::swap(a, b);
     } else if (a_pebble) {
@@ -173,14 +190,15 @@ void World::rebuild(bool resort) {
   }
   std::vector<std::int32_t>().swap(first);  // split: free them before the histories are copied
   std::vector<std::int32_t>().swap(second);
-  carry_history(contact_model(ContactKind::BallBall), bb, ball_ball_, bb_source);
-  carry_history(contact_model(ContactKind::BallPebble), bp, ball_pebble_, bp_source);
+  const auto model = [&models](ContactKind kind) { return models[static_cast<std::size_t>(kind)].get(); };
+  carry_history(model(ContactKind::BallBall), bb, ball_ball, bb_source);
+  carry_history(model(ContactKind::BallPebble), bp, ball_pebble, bp_source);
   mark_touching(bb);
   mark_touching(bp);
-  ball_ball_ = std::move(bb);
-  ball_pebble_ = std::move(bp);
-  build_incidence(ball_ball_, p.size(), bb_offsets_, bb_entries_);
-  build_incidence(ball_pebble_, p.size(), bp_offsets_, bp_entries_);
+  ball_ball = std::move(bb);
+  ball_pebble = std::move(bp);
+  build_incidence(ball_ball, p.size());
+  build_incidence(ball_pebble, p.size());
 
   // Ball-facet candidates: balls within (radius + skin) of a triangle, grouped per (ball, wall).
   struct Candidate {
@@ -190,8 +208,8 @@ void World::rebuild(bool resort) {
   double max_ball_radius = 0.0;
   for (std::size_t i = 0; i < p.size(); ++i)
     if (!p.is_pebble(i)) max_ball_radius = std::max(max_ball_radius, p.radius[i]);
-  for (std::size_t w = 0; w < walls_.size(); ++w) {
-    const auto& mesh = walls_[w].mesh;
+  for (std::size_t w = 0; w < walls.size(); ++w) {
+    const auto& mesh = walls[w].mesh;
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
       const auto& tri = mesh.triangles[t];
       const Vec3& a = mesh.vertices[static_cast<std::size_t>(tri[0])];
@@ -231,32 +249,32 @@ void World::rebuild(bool resort) {
     wc.triangles.push_back(found[k].triangle);
   }
   if (!wc.ball.empty()) wc.triangle_end.push_back(static_cast<std::int32_t>(wc.triangles.size()));
-  carry_history(contact_model(ContactKind::BallFacet), wc, wall_contacts_, wall_source);
-  wall_contacts_ = std::move(wc);
+  carry_history(model(ContactKind::BallFacet), wc, ball_facet, wall_source);
+  ball_facet = std::move(wc);
 
-  x_at_rebuild_ = p.x;
-  max_travel_sq_ = 0.0;
-  max_wall_travel_ = 0.0;
-  wall_disp_at_rebuild_.clear();
-  for (const auto& w : walls_) wall_disp_at_rebuild_.push_back(w.displacement);
-  need_rebuild_ = false;
+  record.x_at_rebuild = p.x;
+  record.max_travel_sq = 0.0;
+  record.max_wall_travel = 0.0;
+  record.wall_disp_at_rebuild.clear();
+  for (const auto& w : walls) record.wall_disp_at_rebuild.push_back(w.displacement);
+  record.need_rebuild = false;
+  ++record.rebuilds;
   near_stale_ = true;
-  gather_plan_stale_ = true;
-  ++rebuilds_;
-  if (settings_.time_step <= 0.0 && dt_ > 0.0) update_time_step();
 }
 
-void World::refresh_near() {
-  const ParticleStore& p = particles_;
-  near_skin_ = settings_.near_skin > 0.0 ? settings_.near_skin : 0.2 * skin_;
-  for (PairContacts* c : {&ball_ball_, &ball_pebble_}) {
+bool BroadPhase::near_stale() const { return near_stale_ || 2.0 * std::sqrt(max_near_travel_sq_) > near_skin_; }
+
+void BroadPhase::refresh_near(WorldState& state, int threads_available) {
+  const ParticleStore& p = state.particles;
+  near_skin_ = state.settings.near_skin > 0.0 ? state.settings.near_skin : 0.2 * state.rebuild.skin;
+  for (PairContacts* c : {&state.contacts.ball_ball, &state.contacts.ball_pebble}) {
     // A candidate left out is more than near_skin apart now, so it cannot touch before some
     // particle has moved half of that, when the list is made again. One that touched in the
     // last step stays in, so that the loop ends its history as usual.
     // Each thread lists a contiguous range of candidates; the lists are joined in range order,
     // so the near list is the same for any thread count.
     const auto count = static_cast<std::int64_t>(c->size());
-    const int threads = threads_for(count, threads_);
+    const int threads = threads_for(count, threads_available);
     std::vector<std::vector<std::int32_t>> local(static_cast<std::size_t>(threads));
 #pragma omp parallel for schedule(static) num_threads(threads)
     for (int t = 0; t < threads; ++t) {

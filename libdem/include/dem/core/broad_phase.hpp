@@ -1,0 +1,59 @@
+// The World's broad phase: which pieces can touch. It keeps Verlet lists with a skin (every pair
+// closer than the sum of radii plus the skin, and every ball within its radius plus the skin of a
+// wall's triangles), remade only when something has moved far enough to matter, with each
+// touching contact's history carried over by stable particle ids; and, inside those, the near
+// lists that the contact loops run over (candidates within a smaller near skin, remade more often).
+//
+// The lists and the record of the last rebuild are part of the WorldState (a resumed run rebuilds
+// at the same steps); the cell grid and the near lists are derived and remade after a load.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <dem/contact/contact_model.hpp>
+#include <dem/core/world_state.hpp>
+#include <dem/grid/cell_grid.hpp>
+
+namespace dem {
+
+class BroadPhase {
+ public:
+  /// True when the lists must be remade before the next force computation: the state asks for it,
+  /// or a particle or wall has moved so far since the last rebuild that a pair could have come
+  /// within reach unseen.
+  static bool needs_rebuild(const RebuildRecord& record);
+
+  /// Remakes the candidate lists of `state` (ball-ball, ball-pebble, ball-facet) and their
+  /// incidence, carrying the history of each touching contact over through `models`. `resort`:
+  /// re-sorts the particles in cell order first (storage indices change; ids do not).
+  void rebuild(WorldState& state, const ContactModelTable& models, int threads, bool resort);
+
+  /// True when the near lists must be remade: after a rebuild or a load, or when a particle has
+  /// moved half the near skin since they were made.
+  bool near_stale() const;
+  /// Remakes the near lists of the pair contacts in `state`.
+  void refresh_near(WorldState& state, int threads);
+  /// The near lists no longer match the contact lists (a load replaced them).
+  void invalidate_near() { near_stale_ = true; }
+
+  /// Particle positions when the near lists were made, and the largest squared displacement since
+  /// (m^2), which the integrator raises as particles move.
+  const std::vector<Vec3>& positions_at_near() const { return x_at_near_; }
+  double near_travel_sq() const { return max_near_travel_sq_; }
+  void set_near_travel_sq(double travel_sq) { max_near_travel_sq_ = travel_sq; }
+  std::int64_t near_refresh_count() const { return near_refreshes_; }
+
+ private:
+  CellGrid grid_;
+  std::vector<Vec3> x_at_near_;
+  double max_near_travel_sq_ = 0.0;  // m^2
+  double near_skin_ = 0.0;           // m
+  bool near_stale_ = true;
+  std::int64_t near_refreshes_ = 0;
+};
+
+/// The skin of lists made now: WorldSettings::skin, or half the smallest ball radius if that is 0.
+double resolved_skin(const WorldState& state);
+
+}  // namespace dem

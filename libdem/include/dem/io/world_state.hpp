@@ -1,0 +1,24 @@
+// A World's state (WorldState) as a binary stream: the body of a restart file (checkpoint.hpp adds
+// the framing). Doubles are written as their bytes, so a run resumed from it continues bit for
+// bit. Contact models, controllers and callbacks are code, not state: the caller sets them up
+// again before reading.
+#pragma once
+
+#include <iosfwd>
+
+#include <dem/core/world.hpp>
+
+namespace dem::io {
+
+/// Writes the complete dynamic state of `world` (the law name of each contact kind, then its
+/// WorldState: clock, settings that shape the trajectory, particles, clumps, walls, contact lists
+/// with their law history, and the record of the last rebuild).
+void write_world_state(std::ostream& out, const World& world);
+
+/// Replaces the state of `world` with one written by write_world_state. The contact models must
+/// already be set, with the same laws as when it was written (checked by name). Every count, index
+/// and value a later step trusts is checked first: InputError naming the field on a mismatch, a
+/// value out of range or a truncated stream, and then `world` is unchanged (World::restore).
+void read_world_state(std::istream& in, World& world);
+
+}  // namespace dem::io
