@@ -53,6 +53,14 @@ WallId add_cylinder_walls(World& world, double top_z, double side_top, int segme
       make_facet_wall("top", geometry::make_rectangle(Vec3(0, 0, top_z), Vec3(half, 0, 0), Vec3(0, half, 0)), Vec3::UnitZ()));
 }
 
+WallId add_analytic_walls(World& world, double top_z) {
+  const double plate_area = pi * cylinder_radius * cylinder_radius;
+  world.add_wall(make_cylinder_wall("side", Vec3::Zero(), Vec3::UnitZ(), cylinder_radius,
+                                    2 * pi * cylinder_radius * top_z));
+  world.add_wall(make_plane_wall("bottom", Vec3::Zero(), -Vec3::UnitZ(), plate_area));
+  return world.add_wall(make_plane_wall("top", Vec3(0, 0, top_z), Vec3::UnitZ(), plate_area));
+}
+
 double vertical_stress(const World& world, double top_z) {
   const auto& c = world.pair_contacts(ContactKind::BallBall);
   const auto& p = world.particles();

@@ -35,6 +35,9 @@ std::shared_ptr<const ContactModel> bench_law(double gamma_n, double mu, double 
 /// Side wall (a circumscribed polygon of `segments` facets, from z = -1 mm to side_top), bottom
 /// plane z = 0 and a top plane at top_z; returns the top wall's id.
 WallId add_cylinder_walls(World& world, double top_z, double side_top, int segments);
+/// The same system's walls as analytic surfaces (the peers' own walls): a cylinder of the 35 mm
+/// radius, a bottom plane at z = 0 and a top plane at top_z. Returns the top plane's id.
+WallId add_analytic_walls(World& world, double top_z);
 
 /// Ball-ball contact virial sum_c d_z F_z over the cylinder volume below top_z, Pa (compression
 /// positive), as the peers' `compute stress/atom` summed over the atoms.

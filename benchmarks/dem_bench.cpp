@@ -47,7 +47,8 @@ int main(int argc, char** argv) {
       "rebuilds", po::value(&rebuilds)->default_value(0),
       "after the run, time this many forced neighbour-list rebuilds (re-sort, pair search, history carried over)")(
       "boundary", po::value<std::string>()->default_value("cylinder"),
-      "cylinder: the peers' walls; rings: the simple-shear boundary (clump ring stack and facet discs); "
+      "cylinder: the peers' walls as facets (side wall of --segments); analytic: the same walls as an analytic "
+      "cylinder and planes; rings: the simple-shear boundary (clump ring stack and facet discs); "
       "none: no walls (to measure what the boundaries cost)")(
       "describe", "print the run's parameters (time step, dashpot rate, skin, top plane, steps) for --packing and exit "
       "(what compare-peers gives LAMMPS and LIGGGHTS)")(
@@ -110,12 +111,14 @@ int main(int argc, char** argv) {
     const std::size_t ball_count = balls.size();
     std::vector<BallSpec>().swap(balls);
     const std::string boundary = vm["boundary"].as<std::string>();
-    if (boundary != "cylinder" && boundary != "rings" && boundary != "none")
-      throw InputError("--boundary = " + boundary + ": must be cylinder, rings or none");
+    if (boundary != "cylinder" && boundary != "analytic" && boundary != "rings" && boundary != "none")
+      throw InputError("--boundary = " + boundary + ": must be cylinder, analytic, rings or none");
     const int segments = vm["segments"].as<int>();
     WallId top = -1;
     if (boundary == "cylinder") {
       top = add_cylinder_walls(world, top_z, top_z + 0.001, segments);
+    } else if (boundary == "analytic") {
+      top = add_analytic_walls(world, top_z);
     } else if (boundary == "rings") {
       // As the simple-shear app builds it: pebbles of the smallest ball diameter, discs as plates.
       RingStackSpec rings;

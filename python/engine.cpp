@@ -78,7 +78,7 @@ struct PythonCall {
 struct WallRef {
   World* world;
   WallId id;
-  FacetWall& wall() const { return world->wall(id); }
+  Wall& wall() const { return world->wall(id); }
 };
 
 template <class Params>
@@ -176,7 +176,7 @@ void bind_engine(py::module_& m) {
         py::arg("segments") = 48, py::arg("normals_inward") = true);
   m.def("read_stl", &geometry::read_stl_ascii, py::arg("file"), py::arg("scale") = 1.0, "An ASCII STL file; scale converts its units to m");
 
-  py::class_<WallRef>(m, "Wall", "A facet wall of a World, by id")
+  py::class_<WallRef>(m, "Wall", "A wall of a World (facets, or an analytic plane or cylinder), by id")
       .def_property_readonly("id", [](const WallRef& r) { return r.id; })
       .def_property_readonly("name", [](const WallRef& r) { return r.wall().name; })
       .def_property("velocity", [](const WallRef& r) { return r.wall().velocity; },
@@ -252,6 +252,18 @@ void bind_engine(py::module_& m) {
              return WallRef{&w, w.add_wall(make_facet_wall(name, mesh, outward_normal, area))};
            },
            py::arg("name"), py::arg("mesh"), py::arg("outward_normal"), py::arg("area") = 0.0, py::keep_alive<0, 1>())
+      .def("add_plane_wall",
+           [](World& w, const std::string& name, const Vec3& point, const Vec3& outward_normal, double area) {
+             return WallRef{&w, w.add_wall(make_plane_wall(name, point, outward_normal, area))};
+           },
+           py::arg("name"), py::arg("point"), py::arg("outward_normal"), py::arg("area"), py::keep_alive<0, 1>(),
+           "Adds an analytic infinite plane (the ball-facet law; area in m^2 for stresses and servos)")
+      .def("add_cylinder_wall",
+           [](World& w, const std::string& name, const Vec3& axis_point, const Vec3& axis, double radius, double area) {
+             return WallRef{&w, w.add_wall(make_cylinder_wall(name, axis_point, axis, radius, area))};
+           },
+           py::arg("name"), py::arg("axis_point"), py::arg("axis"), py::arg("radius"), py::arg("area"),
+           py::keep_alive<0, 1>(), "Adds an analytic infinite cylinder (the ball-facet law), for balls inside or outside")
       .def("wall", [](World& w, WallId id) {
              require(id >= 0 && static_cast<std::size_t>(id) < w.walls().size(), "wall id", id, "0 <= id < " + std::to_string(w.walls().size()));
              return WallRef{&w, id};

@@ -97,7 +97,8 @@ def world_fields(state):
         array(f"clump{c}.pebbles", 4)
         array(f"clump{c}.pebble_offsets", 24)
         take(f"clump{c}.loads", 5 * 24)
-    for w in range(count("walls")):
+    walls = count("walls")
+    for w in range(walls):
         array(f"wall{w}.name", 1)
         array(f"wall{w}.vertices", 24)
         array(f"wall{w}.triangles", 12)
@@ -112,17 +113,23 @@ def world_fields(state):
                            ("normal_force", 8)):
             array(f"{pairs}.{name}", size)
         contact_states(pairs)
-    for name, size in (("ball", 4), ("wall", 4), ("triangle_begin", 4), ("triangle_end", 4), ("triangles", 4),
-                       ("force", 24), ("torque_ball", 24), ("point", 24), ("moment", 24), ("normal_force", 8),
-                       ("normal_stiffness", 8)):
-        array("wall_contacts." + name, size)
-    contact_states("wall_contacts")
+    def wall_contacts(prefix):
+        for name, size in (("ball", 4), ("wall", 4), ("triangle_begin", 4), ("triangle_end", 4), ("triangles", 4),
+                           ("force", 24), ("torque_ball", 24), ("point", 24), ("moment", 24), ("normal_force", 8),
+                           ("normal_stiffness", 8)):
+            array(f"{prefix}.{name}", size)
+        contact_states(prefix)
+
+    wall_contacts("wall_contacts")
     for name, size in (("bb_offsets", 4), ("bb_entries", 4), ("bp_offsets", 4), ("bp_entries", 4),
                        ("x_at_rebuild", 24), ("wall_disp_at_rebuild", 24)):
         array(name, size)
     for name, size in (("need_rebuild", 1), ("rebuilds", 8), ("max_travel_sq", 8), ("max_wall_travel", 8),
                        ("skin_", 8)):
         take(name, size)
+    for w in range(walls):  # format 2: the walls' analytic surfaces and their contacts
+        take(f"wall{w}.surface", 1 + 2 * 24 + 8)
+    wall_contacts("surface_contacts")
     if at != len(state):
         fail(f"final.restart: {len(state) - at} bytes after the last World field: "
              "kill_resume.py's layout is out of date")

@@ -247,7 +247,7 @@ TEST_CASE("ring stack confining a specimen: rings move horizontally only, hold t
   // Top plate servo: speed proportional to the force error, at most 0.1 m/s.
   const double target_force = 50e3 * pi * a * a;  // N
   world.add_controller([&](World& w) {
-    FacetWall& plate = w.wall(top);
+    Wall& plate = w.wall(top);
     plate.velocity = Vec3(0, 0, -0.1 * std::clamp(1.0 - plate.force.z() / target_force, -1.0, 1.0));
   });
   world.step(6000);

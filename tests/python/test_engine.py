@@ -75,6 +75,23 @@ def test_a_python_controller_moves_a_wall():
     assert wall.displacement == pytest.approx([0, 0, -0.01 * 6 * 1e-5], abs=1e-18)
 
 
+def test_a_ball_settles_on_an_analytic_plane_with_its_weight_on_it():
+    world = libdem.World()
+    world.set_contact_model(libdem.ContactKind.BALL_FACET, libdem.LinearParams.constant(1e4, 1e4, 0.5), "ball-facet")
+    world.set_gravity([0.0, 0.0, -9.81])
+    world.add_ball([0.0, 0.0, 1.0e-3 + 1e-6], 1e-3, 2650.0)
+    floor = world.add_plane_wall("floor", [0.0, 0.0, 0.0], [0.0, 0.0, -1.0], area=1e-4)
+    world.time_step = 1e-5
+    world.step(4000)  # local damping 0.7 settles the bounce (period 2e-4 s) in well under 0.04 s
+    weight = 2650.0 * 4.0 / 3.0 * np.pi * 1e-9 * 9.81
+    assert floor.contact_count == 1
+    # Equilibrium: the floor carries the weight; what is left is the damped oscillation's round-off.
+    assert floor.force == pytest.approx([0.0, 0.0, -weight], rel=1e-9, abs=1e-15)
+    assert floor.normal_stress == pytest.approx(weight / 1e-4, rel=1e-9)
+    with pytest.raises(ValueError, match="area"):
+        world.add_plane_wall("bad", [0.0, 0.0, 0.0], [0.0, 0.0, 1.0], area=0.0)
+
+
 def test_a_damping_frame_that_outruns_a_ball_brakes_it_by_one_plus_alpha():
     # docs/model.md 3.1: gravity opposes the ball's velocity relative to a frame falling at 1 m/s,
     # so local damping 0.7 gives (1 + 0.7) g from the first step; in the fixed frame (1 - 0.7) g.

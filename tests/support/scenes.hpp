@@ -33,7 +33,7 @@ inline BallSpec ball_at(const Vec3& x, const Vec3& v = Vec3::Zero(), double r = 
 }
 
 /// Horizontal square floor (top face at z) as a facet wall, pushed downwards by the balls.
-inline FacetWall floor_wall(double z, double half_size) {
+inline Wall floor_wall(double z, double half_size) {
   return make_facet_wall("floor",
                          geometry::make_rectangle(Vec3(0, 0, z), Vec3(half_size, 0, 0), Vec3(0, half_size, 0)),
                          -Vec3::UnitZ());

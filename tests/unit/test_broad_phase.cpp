@@ -124,7 +124,7 @@ namespace {
 
 /// A square plate of n x n cells (two triangles each) at height z, pushing along `normal`: a
 /// fine mesh, so that each ball near it tests several triangles.
-FacetWall tiled_plate(const char* name, double z, double size, int n, const Vec3& normal) {
+Wall tiled_plate(const char* name, double z, double size, int n, const Vec3& normal) {
   geometry::TriangleMesh mesh;
   const double cell = size / n;
   for (int a = 0; a < n; ++a)

@@ -238,6 +238,10 @@ constexpr std::size_t pebble_pebble_at = state_start + 3 * 8 + 3 * 8 + 24 + 8 + 
 std::size_t particle_id_count_at(std::size_t n) { return pebble_pebble_at + 1 + 5 * (8 + 24 * n) + 4 * (8 + 8 * n); }
 std::size_t clump_count_at(std::size_t n) { return particle_id_count_at(n) + 3 * (8 + 4 * n) + (8 + n); }
 
+/// Bytes after the rebuild record (format 2): per wall its surface (shape byte, point, axis,
+/// radius), then an empty ball-surface contact list (eleven array counts, State size and count).
+std::size_t surface_section_bytes(const World& world) { return world.walls().size() * 57 + 13 * 8; }
+
 template <class T>
 T read_at(const std::string& bytes, std::size_t at) {
   T v{};
@@ -278,11 +282,13 @@ TEST_CASE("checkpoint: unset per-contact results, as real runs leave them, are a
 }
 
 TEST_CASE("checkpoint: bool fields other than 0 or 1 are refused", "[checkpoint]") {
-  const std::string payload = payload_of(small_scene());
+  const World world = small_scene();
+  const std::string payload = payload_of(world);
   CHECK_THAT(refusal(written_at(payload, pebble_pebble_at, std::uint8_t{2})),
              Contains("checkpoint: settings.pebble_pebble_contacts = 2") && Contains("0 or 1"));
   // need_rebuild is followed by rebuilds, max_travel_sq, max_wall_travel and skin (8 bytes each).
-  CHECK_THAT(refusal(written_at(payload, payload.size() - 33, std::uint8_t{7})),
+  const std::size_t need_rebuild_at = payload.size() - surface_section_bytes(world) - 33;
+  CHECK_THAT(refusal(written_at(payload, need_rebuild_at, std::uint8_t{7})),
              Contains("checkpoint: need_rebuild = 7") && Contains("0 or 1"));
 }
 
@@ -400,7 +406,7 @@ TEST_CASE("checkpoint: step and rebuild counters outside [0, 1e15] are refused",
   constexpr std::int64_t huge = std::numeric_limits<std::int64_t>::max();
   constexpr std::size_t steps_at = state_start + 8;  // after the time
   // rebuilds is followed by max_travel_sq, max_wall_travel and skin (8 bytes each).
-  const std::size_t rebuilds_at = payload.size() - 32;
+  const std::size_t rebuilds_at = payload.size() - surface_section_bytes(world) - 32;
   REQUIRE(read_at<std::int64_t>(payload, steps_at) == world.step_count());
   REQUIRE(read_at<std::int64_t>(payload, rebuilds_at) == world.rebuild_count());
   CHECK_THAT(refusal(written_at(payload, rebuilds_at, huge)),

@@ -3,7 +3,7 @@
 
 #include <dem/boundary/clump.hpp>
 #include <dem/boundary/clump_ring.hpp>
-#include <dem/boundary/facet_wall.hpp>
+#include <dem/boundary/wall.hpp>
 #include <dem/control/servo_wall.hpp>
 #include <dem/contact/contact_model.hpp>
 #include <dem/contact/linear_law.hpp>

@@ -62,7 +62,7 @@ void ServoWall::set_target_function(std::function<double(double time)> target_of
 void ServoWall::operator()(World& world) {
   require(wall_ >= 0 && static_cast<std::size_t>(wall_) < world.walls().size(), "servo wall id", wall_,
           "an id of this world's walls, 0 <= id < " + std::to_string(world.walls().size()));
-  FacetWall& wall = world.wall(wall_);
+  Wall& wall = world.wall(wall_);
   const Vec3& n = wall.outward_normal;
   if (target_of_time_) {
     const double t = world.time();
@@ -98,7 +98,7 @@ void ServoWall::operator()(World& world) {
 std::shared_ptr<ServoWall> add_servo_wall(World& world, WallId wall, ServoSettings settings) {
   require(wall >= 0 && static_cast<std::size_t>(wall) < world.walls().size(), "servo wall id", wall,
           "an id of this world's walls, 0 <= id < " + std::to_string(world.walls().size()));
-  const FacetWall& w = world.wall(wall);
+  const Wall& w = world.wall(wall);
   require(w.area > 0.0, "wall '" + w.name + "' area (for the servo stress)", w.area, "> 0 (m^2)");
   auto servo = std::make_shared<ServoWall>(wall, settings);
   world.add_controller([servo](World& target_world) { (*servo)(target_world); });

@@ -93,6 +93,43 @@ void carry_history(const ContactModel* model, Contacts& fresh, const Contacts& o
   if (model != nullptr) model->remap_states(old.state, source_of, fresh.state);
 }
 
+/// The touching contacts of `c` as sorted (ball id, wall) keys with their index.
+std::vector<std::pair<Key, std::int64_t>> touching_wall_keys(const WallContacts& c, const ParticleStore& p) {
+  std::vector<std::pair<Key, std::int64_t>> keys;
+  for (std::size_t k = 0; k < c.size() && k < c.normal_force.size(); ++k)
+    if (c.normal_force[k] > 0.0)
+      keys.emplace_back(pair_key(p.id[static_cast<std::size_t>(c.ball[k])], c.wall[k]), static_cast<std::int64_t>(k));
+  std::sort(keys.begin(), keys.end());
+  return keys;
+}
+
+/// Ball-surface candidates: every ball within its radius plus the skin of an analytic wall's
+/// surface, in (ball, wall) order. One formula per ball and surface wall, as LAMMPS's wall/gran.
+void find_surface_contacts(WorldState& state, const std::vector<std::pair<Key, std::int64_t>>& old_keys,
+                           const ContactModel* model, double skin) {
+  const ParticleStore& p = state.particles;
+  std::vector<std::size_t> surface_walls;
+  for (std::size_t w = 0; w < state.walls.size(); ++w)
+    if (state.walls[w].surface.shape != AnalyticSurface::Shape::None) surface_walls.push_back(w);
+  WallContacts fresh;
+  fresh.surfaces = true;
+  std::vector<std::int64_t> source;
+  if (!surface_walls.empty())
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      if (p.is_pebble(i)) continue;
+      const double reach = p.radius[i] + skin;
+      for (const std::size_t w : surface_walls)
+        if ((state.walls[w].surface.closest_point(p.x[i]) - p.x[i]).squaredNorm() < reach * reach) {
+          fresh.ball.push_back(static_cast<std::int32_t>(i));
+          fresh.wall.push_back(static_cast<std::int32_t>(w));
+          source.push_back(lookup(old_keys, pair_key(p.id[i], static_cast<std::int32_t>(w))));
+        }
+    }
+  WallContacts& now = state.contacts.ball_surface;
+  carry_history(model, fresh, now, source);
+  now = std::move(fresh);
+}
+
 /// CSR incidence: for each particle, entries (contact * 2 + side) in contact order.
 void build_incidence(PairContacts& c, std::size_t particles) {
   std::vector<std::int32_t>& offsets = c.incidence_offsets;
@@ -135,19 +172,15 @@ void BroadPhase::rebuild(WorldState& state, const ContactModelTable& models, int
   PairContacts& ball_ball = state.contacts.ball_ball;
   PairContacts& ball_pebble = state.contacts.ball_pebble;
   WallContacts& ball_facet = state.contacts.ball_facet;
-  const std::vector<FacetWall>& walls = state.walls;
+  const std::vector<Wall>& walls = state.walls;
   RebuildRecord& record = state.rebuild;
   const double skin = resolved_skin(state);
   record.skin = skin;
 
   // History of the last step, keyed by stable ids (storage indices change when re-sorting).
   TouchingPairs old_bb(ball_ball, p), old_bp(ball_pebble, p);
-  std::vector<std::pair<Key, std::int64_t>> old_wall_keys;
-  for (std::size_t k = 0; k < ball_facet.size() && k < ball_facet.normal_force.size(); ++k)
-    if (ball_facet.normal_force[k] > 0.0)
-      old_wall_keys.emplace_back(pair_key(p.id[static_cast<std::size_t>(ball_facet.ball[k])], ball_facet.wall[k]),
-                                 static_cast<std::int64_t>(k));
-  std::sort(old_wall_keys.begin(), old_wall_keys.end());
+  const auto old_wall_keys = touching_wall_keys(ball_facet, p);
+  const auto old_surface_keys = touching_wall_keys(state.contacts.ball_surface, p);
 
   if (resort && p.size() > 1) {
     double max_radius = 0.0;
@@ -251,6 +284,7 @@ void BroadPhase::rebuild(WorldState& state, const ContactModelTable& models, int
   if (!wc.ball.empty()) wc.triangle_end.push_back(static_cast<std::int32_t>(wc.triangles.size()));
   carry_history(model(ContactKind::BallFacet), wc, ball_facet, wall_source);
   ball_facet = std::move(wc);
+  find_surface_contacts(state, old_surface_keys, model(ContactKind::BallFacet), skin);
 
   record.x_at_rebuild = p.x;
   record.max_travel_sq = 0.0;

@@ -74,7 +74,7 @@ ClumpId World::add_clump(const ClumpSpec& spec) {
   return cid;
 }
 
-WallId World::add_wall(FacetWall wall) {
+WallId World::add_wall(Wall wall) {
   state_.walls.push_back(std::move(wall));
   state_.rebuild.need_rebuild = true;
   return static_cast<WallId>(state_.walls.size() - 1);

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <type_traits>
 
 #include <dem/core/errors.hpp>
 #include <dem/core/world.hpp>
@@ -94,6 +95,7 @@ void World::compute_forces() {
   ctx.threads = threads_;
 
   ParticleStore& p = state_.particles;
+  WorldContacts& contacts = state_.contacts;
   const auto n = static_cast<std::int64_t>(p.size());
 #pragma omp parallel for schedule(static) num_threads(threads_for(n, threads_))
   for (std::int64_t i = 0; i < n; ++i) {
@@ -102,12 +104,11 @@ void World::compute_forces() {
   }
   ctx.scatter_force = p.f.data();
   ctx.scatter_torque = p.t.data();
-  const bool parallel = threads_for(static_cast<std::int64_t>(state_.contacts.ball_ball.size()), threads_) > 1;
+  const bool parallel = threads_for(static_cast<std::int64_t>(contacts.ball_ball.size()), threads_) > 1;
   if (parallel) {
     plan_gather();
     ctx.gathered = gathered_.data();
   }
-  OverlapMonitor worst_bb, worst_bp, worst_wall;
   auto lap = std::chrono::steady_clock::now();
   const auto time_into = [&lap](double& part) {
     const auto now = std::chrono::steady_clock::now();
@@ -115,12 +116,17 @@ void World::compute_forces() {
     lap = now;
   };
   time_into(timing_.force_sums);
-  if (state_.contacts.ball_ball.size() > 0) model_for(models_[0], ContactKind::BallBall).compute(state_.contacts.ball_ball, ctx, worst_bb);
-  time_into(timing_.ball_ball);
-  if (state_.contacts.ball_pebble.size() > 0) model_for(models_[2], ContactKind::BallPebble).compute(state_.contacts.ball_pebble, ctx, worst_bp);
-  time_into(timing_.ball_pebble);
-  if (state_.contacts.ball_facet.size() > 0) model_for(models_[1], ContactKind::BallFacet).compute(state_.contacts.ball_facet, ctx, worst_wall);
-  time_into(timing_.ball_facet);
+  // Each set with its law; the worst overlap of the step over all of them (the first set wins a tie).
+  WorstOverlap worst;
+  contacts.for_each_set([&](auto& set) {
+    OverlapMonitor set_worst;
+    const ContactKind law = WorldContacts::law_kind(set);
+    if (set.size() > 0) model_for(models_[static_cast<std::size_t>(law)], law).compute(set, ctx, set_worst);
+    time_into(law == ContactKind::BallBall ? timing_.ball_ball
+              : law == ContactKind::BallPebble ? timing_.ball_pebble
+                                                : timing_.ball_facet);
+    if (set_worst.ratio > worst.monitor.ratio) worst = WorstOverlap{set_worst, &set};
+  });
 
   if (parallel) {
     const auto gathered = static_cast<std::int64_t>(gathered_list_.size());
@@ -128,8 +134,9 @@ void World::compute_forces() {
     for (std::int64_t s = 0; s < gathered; ++s) {
       const auto i = static_cast<std::size_t>(gathered_list_[static_cast<std::size_t>(s)]);
       Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
-      gather(state_.contacts.ball_ball, p.x, i, force, torque);
-      gather(state_.contacts.ball_pebble, p.x, i, force, torque);
+      contacts.for_each_set([&](const auto& set) {
+        if constexpr (std::is_same_v<std::decay_t<decltype(set)>, PairContacts>) gather(set, p.x, i, force, torque);
+      });
       p.f[i] = force;
       p.t[i] = torque;
     }
@@ -141,25 +148,22 @@ void World::compute_forces() {
     w.contact_count = 0;
     w.stiffness_sum = 0.0;
   }
-  const WallContacts& wc = state_.contacts.ball_facet;
-  for (std::size_t k = 0; k < wc.size(); ++k) {
-    if (wc.normal_stiffness[k] == 0.0) continue;
-    const auto b = static_cast<std::size_t>(wc.ball[k]);
-    FacetWall& w = state_.walls[static_cast<std::size_t>(wc.wall[k])];
-    p.f[b] -= wc.force[k];
-    p.t[b] += wc.torque_ball[k];
-    w.force += wc.force[k];
-    w.moment += (wc.point[k] - w.reference_point).cross(wc.force[k]) + wc.moment[k];
-    ++w.contact_count;
-    w.stiffness_sum += wc.normal_stiffness[k];
-  }
-
-  // Stability: the worst overlap of the step, over all contact types.
-  const OverlapMonitor* worst = &worst_bb;
-  ContactKind kind = ContactKind::BallBall;
-  if (worst_bp.ratio > worst->ratio) worst = &worst_bp, kind = ContactKind::BallPebble;
-  if (worst_wall.ratio > worst->ratio) worst = &worst_wall, kind = ContactKind::BallFacet;
-  check_stability(*worst, kind);
+  contacts.for_each_set([&](const auto& wc) {
+    if constexpr (std::is_same_v<std::decay_t<decltype(wc)>, WallContacts>) {
+      for (std::size_t k = 0; k < wc.size(); ++k) {
+        if (wc.normal_stiffness[k] == 0.0) continue;
+        const auto b = static_cast<std::size_t>(wc.ball[k]);
+        Wall& w = state_.walls[static_cast<std::size_t>(wc.wall[k])];
+        p.f[b] -= wc.force[k];
+        p.t[b] += wc.torque_ball[k];
+        w.force += wc.force[k];
+        w.moment += (wc.point[k] - w.reference_point).cross(wc.force[k]) + wc.moment[k];
+        ++w.contact_count;
+        w.stiffness_sum += wc.normal_stiffness[k];
+      }
+    }
+  });
+  check_stability(worst);
   time_into(timing_.force_sums);
 }
 

@@ -105,10 +105,11 @@ void World::integrate() {
   if (!state_.clumps.empty()) update_pebbles();
 
   for (std::size_t w = 0; w < state_.walls.size(); ++w) {
-    FacetWall& wall = state_.walls[w];
+    Wall& wall = state_.walls[w];
     if (wall.velocity.isZero(0.0)) continue;
     const Vec3 move = wall.velocity * dt;
     for (Vec3& v : wall.mesh.vertices) v += move;
+    wall.surface.point += move;
     wall.reference_point += move;
     wall.displacement += move;
     if (w < state_.rebuild.wall_disp_at_rebuild.size())
@@ -147,21 +148,24 @@ void World::update_pebbles() {
   broad_phase_.set_near_travel_sq(near_travel_sq);
 }
 
-void World::check_stability(const OverlapMonitor& worst, ContactKind kind) {
-  if (worst.ratio <= state_.settings.max_overlap_ratio) return;
-  const auto k = static_cast<std::size_t>(worst.contact);
+void World::check_stability(const WorstOverlap& worst) {
+  if (worst.monitor.ratio <= state_.settings.max_overlap_ratio) return;
+  const auto k = static_cast<std::size_t>(worst.monitor.contact);
   std::ostringstream what;
   what.precision(4);
   std::size_t ball = 0;
-  if (kind == ContactKind::BallFacet) {
-    ball = static_cast<std::size_t>(state_.contacts.ball_facet.ball[k]);
-    what << "it overlaps wall '" << state_.walls[static_cast<std::size_t>(state_.contacts.ball_facet.wall[k])].name << "' by "
-         << worst.ratio << " of its radius";
+  ContactKind kind = ContactKind::BallFacet;
+  if (const auto* walls = std::get_if<const WallContacts*>(&worst.set)) {
+    const WallContacts& c = **walls;
+    ball = static_cast<std::size_t>(c.ball[k]);
+    what << "it overlaps wall '" << state_.walls[static_cast<std::size_t>(c.wall[k])].name << "' by " << worst.monitor.ratio
+         << " of its radius";
   } else {
-    const PairContacts& c = kind == ContactKind::BallBall ? state_.contacts.ball_ball : state_.contacts.ball_pebble;
+    const PairContacts& c = *std::get<const PairContacts*>(worst.set);
+    kind = c.kind;
     ball = static_cast<std::size_t>(c.first[k]);
     what << "it overlaps " << (kind == ContactKind::BallBall ? "ball" : "pebble") << " id "
-         << state_.particles.id[static_cast<std::size_t>(c.second[k])] << " by " << worst.ratio
+         << state_.particles.id[static_cast<std::size_t>(c.second[k])] << " by " << worst.monitor.ratio
          << " of the smaller radius";
   }
   what << " (limit " << state_.settings.max_overlap_ratio << ")";

@@ -28,20 +28,24 @@ void World::for_each_contact(const std::function<void(const ContactView&)>& visi
       visit(v);
     }
   }
-  const WallContacts& wc = state_.contacts.ball_facet;
-  for (std::size_t k = 0; k < wc.size() && k < wc.normal_force.size(); ++k) {
-    if (wc.normal_force[k] <= 0.0) continue;
-    const auto i = static_cast<std::size_t>(wc.ball[k]);
-    const Vec3 arm = wc.point[k] - p.x[i];
-    visit(ContactView{ContactKind::BallFacet, i, wc.wall[k], arm.normalized(), wc.point[k], wc.force[k],
-                      wc.normal_force[k]});
-  }
+  for (const WallContacts* wc : {&state_.contacts.ball_facet, &state_.contacts.ball_surface})
+    for (std::size_t k = 0; k < wc->size() && k < wc->normal_force.size(); ++k) {
+      if (wc->normal_force[k] <= 0.0) continue;
+      const auto i = static_cast<std::size_t>(wc->ball[k]);
+      const Vec3 arm = wc->point[k] - p.x[i];
+      visit(ContactView{ContactKind::BallFacet, i, wc->wall[k], arm.normalized(), wc->point[k], wc->force[k],
+                        wc->normal_force[k]});
+    }
 }
 
 std::size_t World::contact_count(ContactKind kind) const {
-  const std::vector<double>& forces = kind == ContactKind::BallFacet ? state_.contacts.ball_facet.normal_force
-                                                                     : pair_contacts(kind).normal_force;
-  return static_cast<std::size_t>(std::count_if(forces.begin(), forces.end(), [](double f) { return f > 0.0; }));
+  std::size_t count = 0;
+  state_.contacts.for_each_set([&](const auto& set) {
+    if (WorldContacts::law_kind(set) != kind) return;
+    count += static_cast<std::size_t>(
+        std::count_if(set.normal_force.begin(), set.normal_force.end(), [](double f) { return f > 0.0; }));
+  });
+  return count;
 }
 
 double World::kinetic_energy() const {
@@ -113,11 +117,12 @@ double World::critical_time_step() const {
     }
   }
   if (const ContactModel* model = contact_model(ContactKind::BallFacet)) {
-    for (std::size_t k = 0; k < state_.contacts.ball_facet.size() && k < state_.contacts.ball_facet.normal_force.size(); ++k) {
-      if (state_.contacts.ball_facet.normal_force[k] <= 0.0) continue;
-      const auto i = static_cast<std::size_t>(state_.contacts.ball_facet.ball[k]);
-      add(i, model->stiffness(kinematics(ContactKind::BallFacet, p.radius[i], 0.0)), p.radius[i]);
-    }
+    for (const WallContacts* wc : {&state_.contacts.ball_facet, &state_.contacts.ball_surface})
+      for (std::size_t k = 0; k < wc->size() && k < wc->normal_force.size(); ++k) {
+        if (wc->normal_force[k] <= 0.0) continue;
+        const auto i = static_cast<std::size_t>(wc->ball[k]);
+        add(i, model->stiffness(kinematics(ContactKind::BallFacet, p.radius[i], 0.0)), p.radius[i]);
+      }
   }
 
   double dt = std::numeric_limits<double>::infinity();

@@ -63,9 +63,9 @@ std::string load_checkpoint(const std::filesystem::path& path, World& world) {
   std::uint64_t size = 0, stored = 0;
   std::memcpy(&version, file.data() + sizeof magic, sizeof version);
   std::memcpy(&size, file.data() + sizeof magic + sizeof version, sizeof size);
-  if (version != checkpoint_format_version)
+  if (version < 1 || version > checkpoint_format_version)
     throw InputError("restart file " + path.string() + ": format version " + std::to_string(version) +
-                     ", this libdem reads version " + std::to_string(checkpoint_format_version));
+                     ", this libdem reads versions 1 to " + std::to_string(checkpoint_format_version));
   // Shorter and longer than the header says are told apart: bytes appended after a complete
   // file (a copy that went wrong) are not a truncation.
   const std::uint64_t present = file.size() - header - sizeof stored;
@@ -90,7 +90,7 @@ std::string load_checkpoint(const std::filesystem::path& path, World& world) {
   std::string text(text_size, '\0');
   payload.read(text.data(), static_cast<std::streamsize>(text_size));
   try {
-    read_world_state(payload, world);
+    read_world_state(payload, world, version);
   } catch (const InputError& e) {
     throw InputError("restart file " + path.string() + ": " + e.what());
   }

@@ -65,6 +65,12 @@ void write_pairs(Writer& w, const PairContacts& c) {
   write_states(w, c.state);
 }
 
+void write_wall_contacts(Writer& w, const WallContacts& c) {
+  w.vec(c.ball), w.vec(c.wall), w.vec(c.triangle_begin), w.vec(c.triangle_end), w.vec(c.triangles);
+  w.vec(c.force), w.vec(c.torque_ball), w.vec(c.point), w.vec(c.moment), w.vec(c.normal_force), w.vec(c.normal_stiffness);
+  write_states(w, c.state);
+}
+
 }  // namespace
 
 using namespace checkpoint;
@@ -101,7 +107,7 @@ void write_world_state(std::ostream& out, const World& world) {
     w.vec3(c.force), w.vec3(c.torque), w.vec3(c.applied_force), w.vec3(c.applied_torque), w.vec3(c.displacement);
   }
   w.pod<std::uint64_t>(state.walls.size());
-  for (const FacetWall& wall : state.walls) {
+  for (const Wall& wall : state.walls) {
     w.text(wall.name);
     w.vec(wall.mesh.vertices);
     w.vec(wall.mesh.triangles);
@@ -113,20 +119,24 @@ void write_world_state(std::ostream& out, const World& world) {
   const WorldContacts& contacts = state.contacts;
   write_pairs(w, contacts.ball_ball);
   write_pairs(w, contacts.ball_pebble);
-  const WallContacts& c = contacts.ball_facet;
-  w.vec(c.ball), w.vec(c.wall), w.vec(c.triangle_begin), w.vec(c.triangle_end), w.vec(c.triangles);
-  w.vec(c.force), w.vec(c.torque_ball), w.vec(c.point), w.vec(c.moment), w.vec(c.normal_force), w.vec(c.normal_stiffness);
-  write_states(w, c.state);
+  write_wall_contacts(w, contacts.ball_facet);
   w.vec(contacts.ball_ball.incidence_offsets), w.vec(contacts.ball_ball.incidence_entries);
   w.vec(contacts.ball_pebble.incidence_offsets), w.vec(contacts.ball_pebble.incidence_entries);
   const RebuildRecord& record = state.rebuild;
   w.vec(record.x_at_rebuild), w.vec(record.wall_disp_at_rebuild);
   w.pod(record.need_rebuild), w.pod(record.rebuilds), w.pod(record.max_travel_sq), w.pod(record.max_wall_travel);
   w.pod(record.skin);
+  // Since format 2: the walls' analytic surfaces and the ball-surface contacts.
+  for (const Wall& wall : state.walls) {
+    w.pod(static_cast<std::uint8_t>(wall.surface.shape));
+    w.vec3(wall.surface.point), w.vec3(wall.surface.axis);
+    w.pod(wall.surface.radius);
+  }
+  write_wall_contacts(w, contacts.ball_surface);
   if (!out) throw std::runtime_error("checkpoint: writing the world state failed");
 }
 
-void read_world_state(std::istream& in, World& world) {
+void read_world_state(std::istream& in, World& world, std::uint32_t format) {
   const std::uint64_t size = bytes_left(in);
   if (size == unknown_size) {
     // Counts are bounded by the bytes that remain, so a stream that cannot tell its size is
@@ -134,9 +144,12 @@ void read_world_state(std::istream& in, World& world) {
     std::ostringstream copy;
     copy << in.rdbuf();
     std::istringstream whole(copy.str());
-    read_world_state(whole, world);
+    read_world_state(whole, world, format);
     return;
   }
+  if (format < 1 || format > world_state_format)
+    throw InputError("checkpoint: world state format " + std::to_string(format) + ": this libdem reads 1 to " +
+                     std::to_string(world_state_format));
   Reader r{in, size};
   for (int k = 0; k < contact_kind_count; ++k) {
     const auto kind = static_cast<ContactKind>(k);
@@ -163,7 +176,7 @@ void read_world_state(std::istream& in, World& world) {
   WorldContacts& c = s.contacts;
   c.ball_ball = read_pairs(r, world.contact_model(ContactKind::BallBall), ContactKind::BallBall, p, pebble_pebble);
   c.ball_pebble = read_pairs(r, world.contact_model(ContactKind::BallPebble), ContactKind::BallPebble, p, pebble_pebble);
-  c.ball_facet = read_wall_contacts(r, world.contact_model(ContactKind::BallFacet), p, s.walls);
+  c.ball_facet = read_wall_contacts(r, world.contact_model(ContactKind::BallFacet), p, s.walls, false);
   c.ball_ball.incidence_offsets = r.vec<std::int32_t>("ball-ball incidence offsets");
   c.ball_ball.incidence_entries = r.vec<std::int32_t>("ball-ball incidence entries");
   c.ball_pebble.incidence_offsets = r.vec<std::int32_t>("ball-pebble incidence offsets");
@@ -191,6 +204,10 @@ void read_world_state(std::istream& in, World& world) {
   }
   check_finite(record.x_at_rebuild, "x_at_rebuild");
   check_finite(record.wall_disp_at_rebuild, "wall_disp_at_rebuild");
+  if (format >= 2) {
+    read_surfaces(r, s.walls);
+    c.ball_surface = read_wall_contacts(r, world.contact_model(ContactKind::BallFacet), p, s.walls, true);
+  }
   world.restore(std::move(s));
 }
 

@@ -212,8 +212,8 @@ std::vector<Clump> read_clumps(Reader& r, const ParticleStore& p) {
 // name, vertices and triangles counts, four vectors, area, two vectors, contact count, stiffness.
 constexpr std::uint64_t min_wall_bytes = 3 * 8 + 4 * 24 + 8 + 2 * 24 + 4 + 8;
 
-FacetWall read_wall(Reader& r, const std::string& name) {
-  FacetWall wall;
+Wall read_wall(Reader& r, const std::string& name) {
+  Wall wall;
   wall.name = r.text(name + ".name");
   wall.mesh.vertices = r.vec<Vec3>(name + ".mesh.vertices");
   check_points(wall.mesh.vertices, name + ".mesh.vertices");
@@ -238,10 +238,33 @@ FacetWall read_wall(Reader& r, const std::string& name) {
   return wall;
 }
 
-std::vector<FacetWall> read_walls(Reader& r) {
-  std::vector<FacetWall> walls(r.count("walls", min_wall_bytes));
+std::vector<Wall> read_walls(Reader& r) {
+  std::vector<Wall> walls(r.count("walls", min_wall_bytes));
   for (std::size_t w = 0; w < walls.size(); ++w) walls[w] = read_wall(r, at("walls", w));
   return walls;
+}
+
+void read_surfaces(Reader& r, std::vector<Wall>& walls) {
+  for (std::size_t w = 0; w < walls.size(); ++w) {
+    const std::string name = at("walls", w) + ".surface";
+    AnalyticSurface& surface = walls[w].surface;
+    const auto shape = r.pod<std::uint8_t>(name + ".shape");
+    if (shape > static_cast<std::uint8_t>(AnalyticSurface::Shape::Cylinder))
+      refuse(name + ".shape", static_cast<int>(shape), "0 (none), 1 (plane) or 2 (cylinder)");
+    surface.shape = static_cast<AnalyticSurface::Shape>(shape);
+    surface.point = r.finite3(name + ".point");
+    surface.axis = r.finite3(name + ".axis");
+    surface.radius = r.number(name + ".radius");
+    if (surface.shape == AnalyticSurface::Shape::None) continue;
+    if (!walls[w].mesh.triangles.empty())
+      refuse(name + ".shape", static_cast<int>(shape), "0 (none) for a wall with triangles");
+    if (!(std::abs(surface.axis.norm() - 1.0) <= 1e-12))
+      refuse(name + ".axis", Reader::show(surface.axis), "a unit vector");
+    if (std::abs(surface.point.maxCoeff()) > max_length || std::abs(surface.point.minCoeff()) > max_length)
+      refuse(name + ".point", Reader::show(surface.point), "within 1e100 m of the origin");
+    if (surface.shape == AnalyticSurface::Shape::Cylinder && !(surface.radius > 0.0 && surface.radius <= max_length))
+      refuse(name + ".radius", surface.radius, "in (0, 1e100] m");
+  }
 }
 
 // --- contacts ---------------------------------------------------------------------------------------
@@ -308,17 +331,26 @@ PairContacts read_pairs(Reader& r, const ContactModel* model, ContactKind kind, 
   return c;
 }
 
-/// Each (ball, wall) contact: a ball, a wall, and a range of that wall's triangles.
-void check_wall_contacts(const WallContacts& c, const ParticleStore& p, const std::vector<FacetWall>& walls) {
-  const std::string name = "ball-facet contacts";
+/// Each (ball, wall) contact: a ball, a wall, and a range of that wall's triangles (none for the
+/// contacts with walls' surfaces, whose walls must have one).
+void check_wall_contacts(const WallContacts& c, const ParticleStore& p, const std::vector<Wall>& walls) {
+  const std::string name = c.surfaces ? "ball-surface contacts" : "ball-facet contacts";
   const std::size_t count = c.size();
   check_length(c.wall.size(), count, name + ".wall", "one per contact, as ball");
-  check_length(c.triangle_begin.size(), count, name + ".triangle_begin", "one per contact");
-  check_length(c.triangle_end.size(), count, name + ".triangle_end", "one per contact");
+  const std::size_t ranges = c.surfaces ? 0 : count;  // a surface has no triangles
+  const char* why = c.surfaces ? "none (surfaces have no triangles)" : "one per contact";
+  check_length(c.triangle_begin.size(), ranges, name + ".triangle_begin", why);
+  check_length(c.triangle_end.size(), ranges, name + ".triangle_end", why);
+  if (c.surfaces) check_length(c.triangles.size(), 0, name + ".triangles", why);
   check_index(c.ball, p.size(), name + ".ball", "the particle count");
   check_index(c.wall, walls.size(), name + ".wall", "the wall count");
   for (std::size_t k = 0; k < count; ++k) {
     if (p.is_pebble(static_cast<std::size_t>(c.ball[k]))) refuse(at(name + ".ball", k), c.ball[k], "a ball (not a pebble)");
+    if (c.surfaces) {
+      if (walls[static_cast<std::size_t>(c.wall[k])].surface.shape == AnalyticSurface::Shape::None)
+        refuse(at(name + ".wall", k), c.wall[k], "a wall with an analytic surface");
+      continue;
+    }
     const std::int32_t begin = c.triangle_begin[k], end = c.triangle_end[k];
     if (begin < 0 || begin > end || static_cast<std::size_t>(end) > c.triangles.size())
       refuse(at(name + ".triangle_begin/end", k), std::to_string(begin) + "/" + std::to_string(end),
@@ -334,9 +366,10 @@ void check_wall_contacts(const WallContacts& c, const ParticleStore& p, const st
 }
 
 WallContacts read_wall_contacts(Reader& r, const ContactModel* model, const ParticleStore& p,
-                                const std::vector<FacetWall>& walls) {
-  const std::string name = "ball-facet contacts";
+                                const std::vector<Wall>& walls, bool surfaces) {
+  const std::string name = surfaces ? "ball-surface contacts" : "ball-facet contacts";
   WallContacts c;
+  c.surfaces = surfaces;
   c.ball = r.vec<std::int32_t>(name + ".ball"), c.wall = r.vec<std::int32_t>(name + ".wall");
   c.triangle_begin = r.vec<std::int32_t>(name + ".triangle_begin");
   c.triangle_end = r.vec<std::int32_t>(name + ".triangle_end");

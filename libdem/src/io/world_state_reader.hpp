@@ -130,9 +130,13 @@ void check_length(std::size_t size, std::size_t expected, const std::string& fie
 WorldSettings read_settings(Reader& r, WorldSettings s);
 ParticleStore read_particles(Reader& r);
 std::vector<Clump> read_clumps(Reader& r, const ParticleStore& p);
-std::vector<FacetWall> read_walls(Reader& r);
+std::vector<Wall> read_walls(Reader& r);
 PairContacts read_pairs(Reader& r, const ContactModel* model, ContactKind kind, const ParticleStore& p, bool pebble_pebble);
-WallContacts read_wall_contacts(Reader& r, const ContactModel* model, const ParticleStore& p, const std::vector<FacetWall>& walls);
+/// The walls' analytic surfaces (format 2), one per wall in order.
+void read_surfaces(Reader& r, std::vector<Wall>& walls);
+/// Ball-wall contacts: with facets, or with the walls' analytic surfaces (`surfaces`).
+WallContacts read_wall_contacts(Reader& r, const ContactModel* model, const ParticleStore& p, const std::vector<Wall>& walls,
+                                bool surfaces);
 /// Refuses incidence lists that are not those of the contact list `c`.
 void check_incidence(const PairContacts& c, std::size_t particles, const std::vector<std::int32_t>& offsets,
                      const std::vector<std::int32_t>& entries, const std::string& name);

@@ -126,8 +126,8 @@ void CyclicShearTest::record_row() {
   const World& w = specimen_.world();
   const ShearState s = specimen_.measure();
   const HorizontalDrive& d = *drive_;
-  const FacetWall& top = w.wall(d.settings().top);
-  const FacetWall& bottom = w.wall(d.settings().bottom);
+  const Wall& top = w.wall(d.settings().top);
+  const Wall& bottom = w.wall(d.settings().bottom);
   const double sigma_v0 = outcome_.vertical_stress_initial;
   const double excess = sigma_v0 - s.vertical_stress;
   const Vec3 rate = horizontal(bottom.velocity - top.velocity);

@@ -48,8 +48,8 @@ Vec3 HorizontalDrive::target(double n) const {
 
 void HorizontalDrive::operator()(World& w) {
   if (mode_ == Mode::Idle) return;
-  FacetWall& top = w.wall(settings_.top);
-  FacetWall& bottom = w.wall(settings_.bottom);
+  Wall& top = w.wall(settings_.top);
+  Wall& bottom = w.wall(settings_.bottom);
   const double dt = w.time_step();
   const double n_next = cycles_at(w.step_count() + 1);
   const Vec3 tau = horizontal(top.force) / settings_.area;

@@ -56,7 +56,7 @@ double ring_lateral_stress(const World& world, const ShearCell& cell) {
 }
 
 DampingFrame plate_damping_frame(const World& world, const ShearCell& cell) {
-  const FacetWall& bottom = world.wall(cell.bottom);
+  const Wall& bottom = world.wall(cell.bottom);
   DampingFrame frame;
   frame.velocity = bottom.velocity;
   frame.height = bottom.displacement.z();
@@ -71,8 +71,8 @@ void move_rings(World& world, const ShearCell& cell, bool specimen_made) {
   if (cell.rings == RingVertical::Fixed) return;
   // Free rings follow the plates only while the specimen is made; then the sand carries them.
   if (cell.rings == RingVertical::Free && specimen_made) return;
-  const FacetWall& top = world.wall(cell.top);
-  const FacetWall& bottom = world.wall(cell.bottom);
+  const Wall& top = world.wall(cell.top);
+  const Wall& bottom = world.wall(cell.bottom);
   const double z_bottom = bottom.displacement.z(), gap = cell.plate_gap(world);
   const bool prescribed = cell.rings == RingVertical::Prescribed && specimen_made;
   // Sand rings: the mean vertical velocity of the balls touching each ring (the interpolation
@@ -111,7 +111,7 @@ void release_rings(World& world, const ShearCell& cell) {
 }
 
 void keep_plate_gap(World& world, const ShearCell& cell, double min_gap) {
-  FacetWall& top = world.wall(cell.top);
+  Wall& top = world.wall(cell.top);
   const double room = cell.plate_gap(world) - min_gap;  // m, >= 0
   top.velocity.z() = std::max(top.velocity.z(), -room / world.time_step());
 }

@@ -13,9 +13,9 @@ Vec3 ShearLegMotion::direction() const { return horizontal_direction(direction_d
 
 void start_shear_leg(World& world, const ShearCell& cell, ServoWall& servo, const ShearLegMotion& motion) {
   const double share = (motion.moving_plate == MovingPlate::Both) ? 0.5 : 1.0;
-  FacetWall& bottom = world.wall(cell.bottom);
+  Wall& bottom = world.wall(cell.bottom);
   bottom.velocity = share * motion.speed * motion.direction();
-  FacetWall& top = world.wall(cell.top);
+  Wall& top = world.wall(cell.top);
   const Vec3 top_horizontal = (share - 1.0) * motion.speed * motion.direction();
   top.velocity.x() = top_horizontal.x();
   top.velocity.y() = top_horizontal.y();

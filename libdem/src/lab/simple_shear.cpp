@@ -223,7 +223,7 @@ void SimpleShearTest::consolidate() {
   if (!report.settled)
     log_ << "warning: consolidation did not settle within consolidation.max_steps = " << config_.consolidation.max_steps
          << " (stress " << servo_->achieved_stress() << " Pa, target " << config_.consolidation.vertical_stress << " Pa)\n";
-  const FacetWall& top = world_->wall(cell_.top);
+  const Wall& top = world_->wall(cell_.top);
   consolidated_height_ = cell_.plate_gap(*world_);
   consolidated_state_ = specimen_state();
   stage_ = ShearStage::Consolidated;

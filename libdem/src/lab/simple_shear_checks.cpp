@@ -28,7 +28,7 @@ const Clump& ring_at(const std::vector<Clump>& rings, double z) {
   return rings[best];
 }
 
-std::vector<Escape> escapes(const World& w, const FacetWall& bottom, const FacetWall& top, double specimen_height,
+std::vector<Escape> escapes(const World& w, const Wall& bottom, const Wall& top, double specimen_height,
                             double inner_radius, double pebble_radius) {
   std::vector<Escape> out;
   const ParticleStore& p = w.particles();

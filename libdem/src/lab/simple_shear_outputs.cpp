@@ -72,8 +72,8 @@ bool same_folder(const std::filesystem::path& a, const std::filesystem::path& b)
 
 ShearState SimpleShearTest::measure() const {
   const World& w = *world_;
-  const FacetWall& top = w.wall(cell_.top);
-  const FacetWall& bottom = w.wall(cell_.bottom);
+  const Wall& top = w.wall(cell_.top);
+  const Wall& bottom = w.wall(cell_.bottom);
   ShearState s;
   s.time = w.time();
   s.height = cell_.plate_gap(w);

@@ -47,7 +47,7 @@ std::vector<std::size_t> sorted_by_id(const ParticleStore& p, bool pebbles) {
 }
 
 // The wall index of each triangle is what lets ParaView colour or hide single walls.
-void write_walls_vtp(const fs::path& path, const std::vector<FacetWall>& walls) {
+void write_walls_vtp(const fs::path& path, const std::vector<Wall>& walls) {
   std::vector<Vec3> points;
   std::vector<std::array<int, 3>> triangles;
   std::vector<double> owner;

@@ -62,8 +62,8 @@ void UniformityProbe::add_columns(HistoryLog& log, std::function<Vec3()> directi
 
 void UniformityProbe::measure(const Vec3& d, std::vector<double>& out) {
   const World& w = world_;
-  const FacetWall& top = w.wall(cell_.top);
-  const FacetWall& bottom = w.wall(cell_.bottom);
+  const Wall& top = w.wall(cell_.top);
+  const Wall& bottom = w.wall(cell_.bottom);
   const ParticleStore& p = w.particles();
 
   // The profile of the displacement along d since the last row, by the balls' mid-interval height.

@@ -28,7 +28,7 @@
 namespace dem {
 
 struct ParticleStore;
-struct FacetWall;
+struct Wall;
 
 template <class L>
 concept ContactLaw = requires(const typename L::Params& p, const ContactKinematics& k, typename L::State& s) {
@@ -41,7 +41,7 @@ concept ContactLaw = requires(const typename L::Params& p, const ContactKinemati
 /// Everything a contact kernel needs besides the contacts themselves.
 struct KernelContext {
   const ParticleStore* particles = nullptr;
-  const std::vector<FacetWall>* walls = nullptr;
+  const std::vector<Wall>* walls = nullptr;
   double dt = 0.0;  // s
   int threads = 1;
   /// Per-particle sums (N, N m) that the pair loops add each contact's force and torque into,

@@ -72,12 +72,14 @@ inline Vec3 second_torque(const Vec3& branch, const Vec3& force, const Vec3& tor
   return -branch.cross(force) - torque_first;
 }
 
-/// Ball-facet candidates: one per (ball, wall), with the wall's triangles near that ball. A ball
-/// gets a single contact per wall at the closest point of those triangles, so a ball on the
-/// shared edge of two triangles is never counted twice and keeps its history across the edge.
+/// Ball-wall candidates: one per (ball, wall). For mesh walls, with the wall's triangles near that
+/// ball: a ball gets a single contact per wall at the closest point of those triangles, so a ball
+/// on the shared edge of two triangles is never counted twice and keeps its history across the
+/// edge. For analytic walls (`surfaces`), at the closest point of the wall's surface.
 struct WallContacts {
+  bool surfaces = false;  // the walls' analytic surfaces (Wall::surface), no triangles
   std::vector<std::int32_t> ball, wall;
-  std::vector<std::int32_t> triangle_begin, triangle_end;  // range in `triangles`
+  std::vector<std::int32_t> triangle_begin, triangle_end;  // range in `triangles` (mesh walls)
   std::vector<std::int32_t> triangles;                      // triangle indices in the wall's mesh
   StateBuffer state;
   std::vector<Vec3> force;           // N, on the wall (the ball gets -force)

@@ -1,4 +1,4 @@
-// Servo-controlled loading wall (docs/model.md 5): moves one FacetWall along its outward normal so that
+// Servo-controlled loading wall (docs/model.md 5): moves one Wall along its outward normal so that
 // the compressive normal stress on it approaches a target, the way PFC's triaxial and biaxial
 // examples drive their platens.
 //
@@ -9,7 +9,7 @@
 // follows the specimen as contacts form and break. The cap max_speed keeps the wall from ploughing
 // into a loose specimen; without contacts the wall approaches the specimen at that cap.
 //
-// Only the normal component of FacetWall::velocity is owned by the servo: a tangential velocity
+// Only the normal component of Wall::velocity is owned by the servo: a tangential velocity
 // set by the user (simple shear of a platen) is left as it is. The servo runs as a World
 // controller, i.e. every step after the contact forces and before integration, so it always acts
 // on the forces of the current step.
@@ -25,7 +25,7 @@
 #include <memory>
 #include <string>
 
-#include <dem/boundary/facet_wall.hpp>
+#include <dem/boundary/wall.hpp>
 
 namespace dem {
 

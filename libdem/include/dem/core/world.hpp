@@ -25,6 +25,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include <dem/contact/contact_model.hpp>
@@ -66,7 +67,7 @@ class World {
   // --- building -----------------------------------------------------------------------------
   ParticleId add_ball(const BallSpec& spec);
   ClumpId add_clump(const ClumpSpec& spec);
-  WallId add_wall(FacetWall wall);
+  WallId add_wall(Wall wall);
   /// The law of a contact kind; the contacts' states are made for it at the next rebuild.
   void set_contact_model(ContactKind kind, std::shared_ptr<const ContactModel> model);
   /// New parameters for the law in use on `kind` (the same law_name()): the contact lists and
@@ -106,9 +107,9 @@ class World {
   void invalidate_contacts() { state_.rebuild.need_rebuild = true; }
   const std::vector<Clump>& clumps() const { return state_.clumps; }
   std::vector<Clump>& clumps() { return state_.clumps; }
-  const std::vector<FacetWall>& walls() const { return state_.walls; }
-  FacetWall& wall(WallId id) { return state_.walls.at(static_cast<std::size_t>(id)); }
-  const FacetWall& wall(WallId id) const { return state_.walls.at(static_cast<std::size_t>(id)); }
+  const std::vector<Wall>& walls() const { return state_.walls; }
+  Wall& wall(WallId id) { return state_.walls.at(static_cast<std::size_t>(id)); }
+  const Wall& wall(WallId id) const { return state_.walls.at(static_cast<std::size_t>(id)); }
   const WorldSettings& settings() const { return state_.settings; }
   void set_local_damping(double alpha);
   /// The field local damping measures velocities against (DampingFrame; the fixed frame unless
@@ -155,7 +156,12 @@ class World {
   void integrate();
   void update_pebbles();
   std::int64_t pebble_count() const;
-  void check_stability(const OverlapMonitor& pairs_worst, ContactKind pairs_kind);
+  /// The worst overlap of a step, and the contact set it is in.
+  struct WorstOverlap {
+    OverlapMonitor monitor;
+    std::variant<std::monostate, const PairContacts*, const WallContacts*> set;
+  };
+  void check_stability(const WorstOverlap& worst);
   /// InstabilityError for particle `particle`: what happened, when, and the likely cause (the
   /// time step when it is above the stable estimate; otherwise the contact type `kind` of an
   /// overlap when it is softer than the stiffest, or the load).

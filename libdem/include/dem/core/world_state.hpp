@@ -10,7 +10,7 @@
 #include <vector>
 
 #include <dem/boundary/clump.hpp>
-#include <dem/boundary/facet_wall.hpp>
+#include <dem/boundary/wall.hpp>
 #include <dem/contact/contact_sets.hpp>
 #include <dem/core/particles.hpp>
 
@@ -40,12 +40,32 @@ struct WorldClock {
   double dt = 0.0;         // s, the time step in use (0 until the first step if automatic)
 };
 
-/// The contact lists, one set per contact kind.
+/// The contact lists: one set per kind of contact, each with its own list, law history and
+/// geometry. Code that handles every set iterates them with for_each_set, in the order the forces
+/// are computed and summed (which the bits of the results depend on); a new set is a member here
+/// and an entry there.
 struct WorldContacts {
-  WorldContacts() { ball_pebble.kind = ContactKind::BallPebble; }
-  PairContacts ball_ball;  // kind BallBall
+  WorldContacts() {
+    ball_pebble.kind = ContactKind::BallPebble;
+    ball_surface.surfaces = true;
+  }
+  PairContacts ball_ball;     // kind BallBall
   PairContacts ball_pebble;
-  WallContacts ball_facet;
+  WallContacts ball_facet;    // balls on mesh walls
+  WallContacts ball_surface;  // balls on analytic walls (planes, cylinders): the ball-facet law
+
+  /// Calls f(set) for each set in force order: ball-ball, ball-pebble, ball-facet, ball-surface.
+  template <class F>
+  void for_each_set(F&& f) {
+    f(ball_ball), f(ball_pebble), f(ball_facet), f(ball_surface);
+  }
+  template <class F>
+  void for_each_set(F&& f) const {
+    f(ball_ball), f(ball_pebble), f(ball_facet), f(ball_surface);
+  }
+  /// The law that computes a set: its own kind for pairs; the ball-facet law for every wall.
+  static ContactKind law_kind(const PairContacts& c) { return c.kind; }
+  static ContactKind law_kind(const WallContacts&) { return ContactKind::BallFacet; }
 
   PairContacts& pairs(ContactKind kind) { return kind == ContactKind::BallPebble ? ball_pebble : ball_ball; }
   const PairContacts& pairs(ContactKind kind) const { return kind == ContactKind::BallPebble ? ball_pebble : ball_ball; }
@@ -68,7 +88,7 @@ struct WorldState {
   WorldClock clock;
   ParticleStore particles;
   std::vector<Clump> clumps;
-  std::vector<FacetWall> walls;
+  std::vector<Wall> walls;
   WorldContacts contacts;
   RebuildRecord rebuild;
 };

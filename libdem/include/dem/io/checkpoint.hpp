@@ -7,10 +7,13 @@
 #include <string>
 
 #include <dem/core/world.hpp>
+#include <dem/io/world_state.hpp>
 
 namespace dem::io {
 
-inline constexpr std::uint32_t checkpoint_format_version = 1;
+/// The version a restart file is written with: the layout of its world state (world_state_format).
+/// Files of every earlier version are read.
+inline constexpr std::uint32_t checkpoint_format_version = world_state_format;
 
 /// Writes `world` and `protocol_state` to `path` (temporary file, fsync, rename).
 void save_checkpoint(const std::filesystem::path& path, const World& world, const std::string& protocol_state);

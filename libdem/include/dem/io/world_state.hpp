@@ -4,11 +4,16 @@
 // again before reading.
 #pragma once
 
+#include <cstdint>
 #include <iosfwd>
 
 #include <dem/core/world.hpp>
 
 namespace dem::io {
+
+/// The layout write_world_state writes. 2 added the walls' analytic surfaces and their contacts
+/// at the end; layout 1 (without them) is still read.
+inline constexpr std::uint32_t world_state_format = 2;
 
 /// Writes the complete dynamic state of `world` (the law name of each contact kind, then its
 /// WorldState: clock, settings that shape the trajectory, particles, clumps, walls, contact lists
@@ -19,6 +24,7 @@ void write_world_state(std::ostream& out, const World& world);
 /// already be set, with the same laws as when it was written (checked by name). Every count, index
 /// and value a later step trusts is checked first: InputError naming the field on a mismatch, a
 /// value out of range or a truncated stream, and then `world` is unchanged (World::restore).
-void read_world_state(std::istream& in, World& world);
+/// `format`: the layout the stream was written in (a restart file's header says it).
+void read_world_state(std::istream& in, World& world, std::uint32_t format = world_state_format);
 
 }  // namespace dem::io

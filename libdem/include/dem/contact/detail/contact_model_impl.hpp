@@ -10,7 +10,7 @@
 #include <omp.h>
 #endif
 
-#include <dem/boundary/facet_wall.hpp>
+#include <dem/boundary/wall.hpp>
 #include <dem/contact/lanes.hpp>
 #include <dem/core/particles.hpp>
 #include <dem/geometry/triangle.hpp>
@@ -434,12 +434,15 @@ void compute_pairs(const typename Law::Params& params, PairContacts& c, const Ke
   }
 }
 
-template <ContactLaw Law>
-void compute_walls(const typename Law::Params& params, WallContacts& c, const KernelContext& ctx,
-                   OverlapMonitor& worst) {
+/// The wall loop over c's candidates: `closest(k, centre, best_sq)` gives the closest point of
+/// candidate k's wall to the ball's centre and its squared distance; the law and the records are
+/// the same for every wall geometry. `work` weighs the candidates for the thread count.
+template <ContactLaw Law, class Closest>
+void wall_loop(const typename Law::Params& params, WallContacts& c, const KernelContext& ctx, OverlapMonitor& worst,
+               std::int64_t work, const Closest& closest_of) {
   using State = typename Law::State;
   const ParticleStore& p = *ctx.particles;
-  const std::vector<FacetWall>& walls = *ctx.walls;
+  const std::vector<Wall>& walls = *ctx.walls;
   const std::int64_t count = static_cast<std::int64_t>(c.size());
   c.force.resize(c.size());
   c.torque_ball.resize(c.size());
@@ -447,34 +450,17 @@ void compute_walls(const typename Law::Params& params, WallContacts& c, const Ke
   c.moment.resize(c.size());
   c.normal_force.resize(c.size());
   c.normal_stiffness.resize(c.size());
-  // Worth threads by the triangles tested, not the contacts: a ball near a curved wall tests
-  // several, each a closest-point search (triangle_test_weight). (The 14k
-  // benchmark cylinder has 3,400 candidates and 9,500 triangle tests; counted by candidates they
-  // ran on one thread, a fifth of a two-thread step.) Each contact writes only its own records:
-  // the same results for any thread count.
-  const auto triangle_tests = static_cast<std::int64_t>(c.triangles.size());
-#pragma omp parallel num_threads(threads_for(triangle_test_weight * triangle_tests, ctx.threads))
+  // Each contact writes only its own records: the same results for any thread count.
+#pragma omp parallel num_threads(threads_for(work, ctx.threads))
   {
     OverlapMonitor local;
 #pragma omp for schedule(static)
     for (std::int64_t k = 0; k < count; ++k) {
       const auto b = static_cast<std::size_t>(c.ball[k]);
-      const FacetWall& wall = walls[static_cast<std::size_t>(c.wall[k])];
+      const Wall& wall = walls[static_cast<std::size_t>(c.wall[k])];
       const Vec3& centre = p.x[b];
-      // The closest point over the candidate triangles: one contact per ball and wall.
-      Vec3 closest = Vec3::Zero();
       double best_sq = std::numeric_limits<double>::infinity();
-      for (std::int32_t t = c.triangle_begin[k]; t < c.triangle_end[k]; ++t) {
-        const auto& tri = wall.mesh.triangles[static_cast<std::size_t>(c.triangles[static_cast<std::size_t>(t)])];
-        const geometry::ClosestPoint cp = geometry::closest_point_on_triangle(
-            centre, wall.mesh.vertices[static_cast<std::size_t>(tri[0])],
-            wall.mesh.vertices[static_cast<std::size_t>(tri[1])], wall.mesh.vertices[static_cast<std::size_t>(tri[2])]);
-        const double dsq = (cp.point - centre).squaredNorm();
-        if (dsq < best_sq) {
-          best_sq = dsq;
-          closest = cp.point;
-        }
-      }
+      const Vec3 closest = closest_of(k, wall, centre, best_sq);
       State& state = state_at<State>(c.state, static_cast<std::size_t>(k));
       const double r = p.radius[b];
       if (best_sq >= r * r || best_sq == 0.0) {
@@ -513,6 +499,44 @@ void compute_walls(const typename Law::Params& params, WallContacts& c, const Ke
 #pragma omp critical(dem_overlap_monitor)
     merge_worst(worst, local);
   }
+}
+
+template <ContactLaw Law>
+void compute_walls(const typename Law::Params& params, WallContacts& c, const KernelContext& ctx,
+                   OverlapMonitor& worst) {
+  if (c.surfaces) {
+    // One closest-point formula per candidate, about one pair candidate's work.
+    wall_loop<Law>(params, c, ctx, worst, static_cast<std::int64_t>(c.size()),
+                   [](std::int64_t, const Wall& wall, const Vec3& centre, double& best_sq) {
+                     const Vec3 closest = wall.surface.closest_point(centre);
+                     best_sq = (closest - centre).squaredNorm();
+                     return closest;
+                   });
+    return;
+  }
+  // Worth threads by the triangles tested, not the contacts: a ball near a curved wall tests
+  // several, each a closest-point search (triangle_test_weight). (The 14k benchmark cylinder has
+  // 3,400 candidates and 9,500 triangle tests; counted by candidates they ran on one thread, a
+  // fifth of a two-thread step.)
+  const auto triangle_tests = static_cast<std::int64_t>(c.triangles.size());
+  wall_loop<Law>(params, c, ctx, worst, triangle_test_weight * triangle_tests,
+                 [&c](std::int64_t k, const Wall& wall, const Vec3& centre, double& best_sq) {
+                   // The closest point over the candidate triangles: one contact per ball and wall.
+                   Vec3 closest = Vec3::Zero();
+                   for (std::int32_t t = c.triangle_begin[k]; t < c.triangle_end[k]; ++t) {
+                     const auto& tri = wall.mesh.triangles[static_cast<std::size_t>(c.triangles[static_cast<std::size_t>(t)])];
+                     const geometry::ClosestPoint cp = geometry::closest_point_on_triangle(
+                         centre, wall.mesh.vertices[static_cast<std::size_t>(tri[0])],
+                         wall.mesh.vertices[static_cast<std::size_t>(tri[1])],
+                         wall.mesh.vertices[static_cast<std::size_t>(tri[2])]);
+                     const double dsq = (cp.point - centre).squaredNorm();
+                     if (dsq < best_sq) {
+                       best_sq = dsq;
+                       closest = cp.point;
+                     }
+                   }
+                   return closest;
+                 });
 }
 
 /// One address per law type: the type tag of its contact history (StateBuffer::law).
