@@ -11,7 +11,7 @@ namespace dem::testing {
 /// The instruction set for one scope (detail::use_block_isa), then the processor's best again.
 struct BlockIsaScope {
   explicit BlockIsaScope(detail::BlockIsa isa) { detail::use_block_isa(isa); }
-  ~BlockIsaScope() { detail::block_isa_override().store(-1); }
+  ~BlockIsaScope() { detail::use_block_isa(detail::detected_block_isa()); }
   BlockIsaScope(const BlockIsaScope&) = delete;
   BlockIsaScope& operator=(const BlockIsaScope&) = delete;
 };

@@ -7,6 +7,7 @@
 #include <dem/control/servo_wall.hpp>
 #include <dem/contact/contact_model.hpp>
 #include <dem/contact/linear_law.hpp>
+#include <dem/core/contact_loops.hpp>  // make_contact_model for a law of your own
 #include <dem/core/errors.hpp>
 #include <dem/core/math.hpp>
 #include <dem/core/particles.hpp>

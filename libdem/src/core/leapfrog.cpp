@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cstring>
 
-#include <dem/contact/contact_model.hpp>  // detail::block_isa
+#include <dem/core/block_isa.hpp>
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #define DEM_LEAPFROG_AVX512 1

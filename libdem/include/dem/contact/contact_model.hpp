@@ -9,7 +9,8 @@
 //   };
 //
 // and `make_contact_model<MyLaw>(params)` turns it into a ContactModel that the World uses for one
-// contact type. The choice of law is made at run time, once per contact type; the loop over the
+// contact type (its loops are in dem/core/contact_loops.hpp: include that, or dem/dem.hpp, where
+// you call it for a law of your own; the built-in laws' loops are compiled in the library). The choice of law is made at run time, once per contact type; the loop over the
 // contacts of that type is a template on the concrete law (run-time choice, compile-time loop),
 // so a new law costs no engine edit and no virtual call per contact.
 #pragma once
@@ -85,4 +86,3 @@ std::shared_ptr<const ContactModel> make_contact_model(const typename Law::Param
 
 }  // namespace dem
 
-#include <dem/contact/detail/contact_model_impl.hpp>

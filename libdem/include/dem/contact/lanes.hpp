@@ -1,7 +1,7 @@
 // Contacts in SIMD lanes: the plain-double forms of a contact that the vectorised pair loop uses.
 //
 // The arithmetic of one contact is a chain of dependent square roots and divisions; the engine
-// computes blocks of contacts side by side instead (contact_model_impl.hpp), which the compiler
+// computes blocks of contacts side by side instead (core/contact_loops.hpp), which the compiler
 // turns into SIMD code if every quantity is a plain double. Eigen's Vector3d is not: it is one
 // SSE pair plus a scalar with shuffles in between, and its storage copies stop the vectoriser.
 // So a law that wants the fast loop writes its force in terms of Lane3 (LinearLaw and

@@ -1,4 +1,8 @@
-// The law-typed contact loops behind make_contact_model. Included by contact_model.hpp.
+// The law-typed contact loops behind make_contact_model: the engine's loops over the contacts of
+// one kind, with the law inlined (run-time choice of law, compile-time loop). The built-in laws'
+// loops are compiled once in the library (linear_law.hpp declares them extern), so a program that
+// uses them needs only contact_model.hpp; a program with a law of its own includes this header
+// (dem/dem.hpp does) where it calls make_contact_model for it.
 #pragma once
 
 #include <algorithm>
@@ -11,7 +15,9 @@
 #endif
 
 #include <dem/boundary/wall.hpp>
+#include <dem/contact/contact_model.hpp>
 #include <dem/contact/lanes.hpp>
+#include <dem/core/block_isa.hpp>
 #include <dem/core/particles.hpp>
 #include <dem/geometry/triangle.hpp>
 
@@ -226,23 +232,11 @@ DEM_INDEPENDENT_ITERATIONS
 // each block is compiled for AVX2 and for AVX-512, and the processor's best is chosen at run time;
 // one contact at a time elsewhere. Every path gives the same bits: IEEE operations lane by lane,
 // and no FMA (a fused multiply-add rounds once where the others round twice).
-enum class BlockIsa { scalar = 0, avx2 = 1, avx512 = 2 };
-
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 // AVX-512 has fused multiply-adds of its own, which the compiler would contract products and sums
 // into (GCC's default, -ffp-contract=fast): GCC's AVX-512 copy is told not to. Clang has no such
-// per-function switch, so with Clang the blocks stay on AVX2. GCC also keeps to 256-bit vectors
-// unless told otherwise.
-inline BlockIsa detected_block_isa() {
-#if defined(__clang__)
-  static const BlockIsa isa = __builtin_cpu_supports("avx2") ? BlockIsa::avx2 : BlockIsa::scalar;
-#else
-  static const BlockIsa isa = __builtin_cpu_supports("avx512f") ? BlockIsa::avx512
-                              : __builtin_cpu_supports("avx2")  ? BlockIsa::avx2
-                                                                : BlockIsa::scalar;
-#endif
-  return isa;
-}
+// per-function switch, so with Clang the blocks stay on AVX2 (block_isa.cpp). GCC also keeps to
+// 256-bit vectors unless told otherwise.
 #define DEM_TARGET_AVX2 __attribute__((target("avx2")))
 #if defined(__clang__)
 #define DEM_TARGET_AVX512 DEM_TARGET_AVX2  // never chosen
@@ -250,25 +244,10 @@ inline BlockIsa detected_block_isa() {
 #define DEM_TARGET_AVX512 __attribute__((target("avx512f,prefer-vector-width=512"), optimize("fp-contract=off")))
 #endif
 #else
-inline BlockIsa detected_block_isa() { return BlockIsa::scalar; }
 #define DEM_TARGET_AVX2
 #define DEM_TARGET_AVX512
 #endif
 
-/// The instruction set the pair loops (and the engine's leapfrog kernel, core/leapfrog.hpp) use:
-/// the processor's best, or a lesser one a test asked for (use_block_isa), so that every path can
-/// be compared on one machine.
-inline std::atomic<int>& block_isa_override() {
-  static std::atomic<int> isa{-1};
-  return isa;
-}
-inline BlockIsa block_isa() {
-  const int asked = block_isa_override().load(std::memory_order_relaxed);
-  const BlockIsa best = detected_block_isa();
-  return asked < 0 ? best : static_cast<BlockIsa>(std::min(asked, static_cast<int>(best)));
-}
-/// Tests: run the pair loops and the leapfrog with `isa` (or the processor's best, if that is less).
-inline void use_block_isa(BlockIsa isa) { block_isa_override().store(static_cast<int>(isa)); }
 inline bool lanes_worthwhile() { return block_isa() != BlockIsa::scalar; }
 
 /// One block of contacts in the law's variant `Variant`, compiled for one instruction set.

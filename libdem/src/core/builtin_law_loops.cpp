@@ -1,6 +1,7 @@
 // The one instantiation of the linear laws' contact loops (contact/linear_law.hpp declares them
-// extern): programs that use the laws link these.
+// extern): programs that use the laws link these, compiled with the library's flags whatever theirs.
 #include <dem/contact/linear_law.hpp>
+#include <dem/core/contact_loops.hpp>
 
 namespace dem {
 
