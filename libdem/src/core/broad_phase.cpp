@@ -301,13 +301,13 @@ bool BroadPhase::near_stale() const { return near_stale_ || 2.0 * std::sqrt(max_
 void BroadPhase::refresh_near(WorldState& state, int threads_available) {
   const ParticleStore& p = state.particles;
   near_skin_ = state.settings.near_skin > 0.0 ? state.settings.near_skin : 0.2 * state.rebuild.skin;
-  for (PairContacts* c : {&state.contacts.ball_ball, &state.contacts.ball_pebble}) {
+  state.contacts.for_each_pair_set([&](PairContacts& c) {
     // A candidate left out is more than near_skin apart now, so it cannot touch before some
     // particle has moved half of that, when the list is made again. One that touched in the
     // last step stays in, so that the loop ends its history as usual.
     // Each thread lists a contiguous range of candidates; the lists are joined in range order,
     // so the near list is the same for any thread count.
-    const auto count = static_cast<std::int64_t>(c->size());
+    const auto count = static_cast<std::int64_t>(c.size());
     const int threads = threads_for(count, threads_available);
     std::vector<std::vector<std::int32_t>> local(static_cast<std::size_t>(threads));
 #pragma omp parallel for schedule(static) num_threads(threads)
@@ -315,16 +315,16 @@ void BroadPhase::refresh_near(WorldState& state, int threads_available) {
       std::vector<std::int32_t>& out = local[static_cast<std::size_t>(t)];
       const std::int64_t begin = count * t / threads, end = count * (t + 1) / threads;
       for (std::int64_t k = begin; k < end; ++k) {
-        const auto i = static_cast<std::size_t>(c->first[static_cast<std::size_t>(k)]);
-        const auto j = static_cast<std::size_t>(c->second[static_cast<std::size_t>(k)]);
+        const auto i = static_cast<std::size_t>(c.first[static_cast<std::size_t>(k)]);
+        const auto j = static_cast<std::size_t>(c.second[static_cast<std::size_t>(k)]);
         const double reach = p.radius[i] + p.radius[j] + near_skin_;
-        if (c->touching[static_cast<std::size_t>(k)] || (p.x[j] - p.x[i]).squaredNorm() < reach * reach)
+        if (c.touching[static_cast<std::size_t>(k)] || (p.x[j] - p.x[i]).squaredNorm() < reach * reach)
           out.push_back(static_cast<std::int32_t>(k));
       }
     }
-    c->near.clear();
-    for (const auto& part : local) c->near.insert(c->near.end(), part.begin(), part.end());
-  }
+    c.near.clear();
+    for (const auto& part : local) c.near.insert(c.near.end(), part.begin(), part.end());
+  });
   x_at_near_ = p.x;
   max_near_travel_sq_ = 0.0;
   near_stale_ = false;

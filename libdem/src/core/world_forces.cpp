@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <type_traits>
 
 #include <dem/core/errors.hpp>
 #include <dem/core/world.hpp>
@@ -49,18 +48,18 @@ void World::plan_gather() {
   const std::size_t n = state_.particles.size();
   gathered_.assign(n, 0);
   std::vector<std::int32_t> owner;
-  for (PairContacts* c : {&state_.contacts.ball_ball, &state_.contacts.ball_pebble}) {
-    const auto count = static_cast<std::int64_t>(c->size());
+  state_.contacts.for_each_pair_set([&](PairContacts& c) {
+    const auto count = static_cast<std::int64_t>(c.size());
     const int threads = threads_for(count, threads_);
     // Equal work per share: a touching contact costs about four separated near candidates, and
     // the loops skip the others.
     std::vector<std::uint8_t> near(static_cast<std::size_t>(count), 0);
-    for (const std::int32_t k : c->near) near[static_cast<std::size_t>(k)] = 1;
-    auto work = [c, &near](std::int64_t k) -> std::int64_t {
+    for (const std::int32_t k : c.near) near[static_cast<std::size_t>(k)] = 1;
+    auto work = [&c, &near](std::int64_t k) -> std::int64_t {
       const auto s = static_cast<std::size_t>(k);
-      return near[s] == 0 ? 0 : c->normal_force[s] > 0.0 ? 4 : 1;
+      return near[s] == 0 ? 0 : c.normal_force[s] > 0.0 ? 4 : 1;
     };
-    std::vector<std::int64_t>& shares = c->shares;
+    std::vector<std::int64_t>& shares = c.shares;
     shares.assign(1, 0);
     std::int64_t total = 0;
     for (std::int64_t k = 0; k < count; ++k) total += work(k);
@@ -74,12 +73,12 @@ void World::plan_gather() {
     owner.assign(n, -1);
     for (int t = 0; t < threads; ++t)
       for (std::int64_t k = shares[static_cast<std::size_t>(t)]; k < shares[static_cast<std::size_t>(t) + 1]; ++k)
-        for (const std::int32_t piece : {c->first[static_cast<std::size_t>(k)], c->second[static_cast<std::size_t>(k)]}) {
+        for (const std::int32_t piece : {c.first[static_cast<std::size_t>(k)], c.second[static_cast<std::size_t>(k)]}) {
           std::int32_t& o = owner[static_cast<std::size_t>(piece)];
           if (o < 0) o = t;
           else if (o != t) gathered_[static_cast<std::size_t>(piece)] = 1;
         }
-  }
+  });
   gathered_list_.clear();
   for (std::size_t i = 0; i < n; ++i)
     if (gathered_[i]) gathered_list_.push_back(static_cast<std::int32_t>(i));
@@ -134,9 +133,7 @@ void World::compute_forces() {
     for (std::int64_t s = 0; s < gathered; ++s) {
       const auto i = static_cast<std::size_t>(gathered_list_[static_cast<std::size_t>(s)]);
       Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
-      contacts.for_each_set([&](const auto& set) {
-        if constexpr (std::is_same_v<std::decay_t<decltype(set)>, PairContacts>) gather(set, p.x, i, force, torque);
-      });
+      contacts.for_each_pair_set([&](const PairContacts& set) { gather(set, p.x, i, force, torque); });
       p.f[i] = force;
       p.t[i] = torque;
     }
@@ -148,19 +145,17 @@ void World::compute_forces() {
     w.contact_count = 0;
     w.stiffness_sum = 0.0;
   }
-  contacts.for_each_set([&](const auto& wc) {
-    if constexpr (std::is_same_v<std::decay_t<decltype(wc)>, WallContacts>) {
-      for (std::size_t k = 0; k < wc.size(); ++k) {
-        if (wc.normal_stiffness[k] == 0.0) continue;
-        const auto b = static_cast<std::size_t>(wc.ball[k]);
-        Wall& w = state_.walls[static_cast<std::size_t>(wc.wall[k])];
-        p.f[b] -= wc.force[k];
-        p.t[b] += wc.torque_ball[k];
-        w.force += wc.force[k];
-        w.moment += (wc.point[k] - w.reference_point).cross(wc.force[k]) + wc.moment[k];
-        ++w.contact_count;
-        w.stiffness_sum += wc.normal_stiffness[k];
-      }
+  contacts.for_each_wall_set([&](const WallContacts& wc) {
+    for (std::size_t k = 0; k < wc.size(); ++k) {
+      if (wc.normal_stiffness[k] == 0.0) continue;
+      const auto b = static_cast<std::size_t>(wc.ball[k]);
+      Wall& w = state_.walls[static_cast<std::size_t>(wc.wall[k])];
+      p.f[b] -= wc.force[k];
+      p.t[b] += wc.torque_ball[k];
+      w.force += wc.force[k];
+      w.moment += (wc.point[k] - w.reference_point).cross(wc.force[k]) + wc.moment[k];
+      ++w.contact_count;
+      w.stiffness_sum += wc.normal_stiffness[k];
     }
   });
   check_stability(worst);

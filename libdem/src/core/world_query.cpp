@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 #include <dem/core/errors.hpp>
 #include <dem/core/world.hpp>
@@ -13,29 +14,40 @@ const PairContacts& World::pair_contacts(ContactKind kind) const {
   return kind == ContactKind::BallBall ? state_.contacts.ball_ball : state_.contacts.ball_pebble;
 }
 
-void World::for_each_contact(const std::function<void(const ContactView&)>& visit) const {
-  const ParticleStore& p = state_.particles;
-  for (const PairContacts* c : {&state_.contacts.ball_ball, &state_.contacts.ball_pebble}) {
-    for (std::size_t k = 0; k < c->size() && k < c->normal_force.size(); ++k) {
-      if (c->normal_force[k] <= 0.0) continue;
-      const auto i = static_cast<std::size_t>(c->first[k]);
-      const auto j = static_cast<std::size_t>(c->second[k]);
-      const Vec3 d = p.x[j] - p.x[i];
-      const double dist = d.norm();
-      ContactView v{c->kind, i, static_cast<std::int64_t>(j), d / dist, Vec3::Zero(), c->force[k], c->normal_force[k]};
-      const double overlap = p.radius[i] + p.radius[j] - dist;
-      v.point = p.x[i] + (p.radius[i] - 0.5 * overlap) * v.normal;
-      visit(v);
-    }
+namespace {
+
+using ContactVisitor = std::function<void(const ContactView&)>;
+
+/// Each touching contact of a pair set as a ContactView.
+void visit_touching(const PairContacts& c, const ParticleStore& p, const ContactVisitor& visit) {
+  // Lists just remade have no forces until the next step computes them: nothing to visit.
+  for (std::size_t k = 0; k < c.size() && k < c.normal_force.size() && k < c.force.size(); ++k) {
+    if (c.normal_force[k] <= 0.0) continue;
+    const auto i = static_cast<std::size_t>(c.first[k]);
+    const auto j = static_cast<std::size_t>(c.second[k]);
+    const Vec3 d = p.x[j] - p.x[i];
+    const double dist = d.norm();
+    ContactView v{c.kind, i, static_cast<std::int64_t>(j), d / dist, Vec3::Zero(), c.force[k], c.normal_force[k]};
+    const double overlap = p.radius[i] + p.radius[j] - dist;
+    v.point = p.x[i] + (p.radius[i] - 0.5 * overlap) * v.normal;
+    visit(v);
   }
-  for (const WallContacts* wc : {&state_.contacts.ball_facet, &state_.contacts.ball_surface})
-    for (std::size_t k = 0; k < wc->size() && k < wc->normal_force.size(); ++k) {
-      if (wc->normal_force[k] <= 0.0) continue;
-      const auto i = static_cast<std::size_t>(wc->ball[k]);
-      const Vec3 arm = wc->point[k] - p.x[i];
-      visit(ContactView{ContactKind::BallFacet, i, wc->wall[k], arm.normalized(), wc->point[k], wc->force[k],
-                        wc->normal_force[k]});
-    }
+}
+
+/// Each touching contact of a wall set (facets or surfaces) as a ContactView of kind ball-facet.
+void visit_touching(const WallContacts& c, const ParticleStore& p, const ContactVisitor& visit) {
+  for (std::size_t k = 0; k < c.size() && k < c.normal_force.size() && k < c.force.size(); ++k) {
+    if (c.normal_force[k] <= 0.0) continue;
+    const auto i = static_cast<std::size_t>(c.ball[k]);
+    const Vec3 arm = c.point[k] - p.x[i];
+    visit(ContactView{ContactKind::BallFacet, i, c.wall[k], arm.normalized(), c.point[k], c.force[k], c.normal_force[k]});
+  }
+}
+
+}  // namespace
+
+void World::for_each_contact(const ContactVisitor& visit) const {
+  state_.contacts.for_each_set([&](const auto& set) { visit_touching(set, state_.particles, visit); });
 }
 
 std::size_t World::contact_count(ContactKind kind) const {
@@ -104,26 +116,26 @@ double World::critical_time_step() const {
     k.normal = Vec3::UnitZ();
     return k;
   };
-  for (const PairContacts* c : {&state_.contacts.ball_ball, &state_.contacts.ball_pebble}) {
-    const ContactModel* model = contact_model(c->kind);
-    if (model == nullptr) continue;
-    for (std::size_t k = 0; k < c->size() && k < c->normal_force.size(); ++k) {
-      if (c->normal_force[k] <= 0.0) continue;
-      const auto i = static_cast<std::size_t>(c->first[k]);
-      const auto j = static_cast<std::size_t>(c->second[k]);
-      const ContactStiffness s = model->stiffness(kinematics(c->kind, p.radius[i], p.radius[j]));
-      add(i, s, p.radius[i]);
-      add(j, s, p.radius[j]);
-    }
-  }
-  if (const ContactModel* model = contact_model(ContactKind::BallFacet)) {
-    for (const WallContacts* wc : {&state_.contacts.ball_facet, &state_.contacts.ball_surface})
-      for (std::size_t k = 0; k < wc->size() && k < wc->normal_force.size(); ++k) {
-        if (wc->normal_force[k] <= 0.0) continue;
-        const auto i = static_cast<std::size_t>(wc->ball[k]);
-        add(i, model->stiffness(kinematics(ContactKind::BallFacet, p.radius[i], 0.0)), p.radius[i]);
+  // Each touching contact's stiffness on its pieces (a wall is rigid: only the ball). Not through
+  // for_each_contact: right after a rebuild the lists have their normal forces but no forces yet.
+  state_.contacts.for_each_set([&](const auto& set) {
+    const ContactKind kind = WorldContacts::law_kind(set);
+    const ContactModel* model = contact_model(kind);
+    if (model == nullptr) return;
+    for (std::size_t k = 0; k < set.size() && k < set.normal_force.size(); ++k) {
+      if (set.normal_force[k] <= 0.0) continue;
+      if constexpr (std::is_same_v<std::decay_t<decltype(set)>, PairContacts>) {
+        const auto i = static_cast<std::size_t>(set.first[k]);
+        const auto j = static_cast<std::size_t>(set.second[k]);
+        const ContactStiffness s = model->stiffness(kinematics(kind, p.radius[i], p.radius[j]));
+        add(i, s, p.radius[i]);
+        add(j, s, p.radius[j]);
+      } else {
+        const auto i = static_cast<std::size_t>(set.ball[k]);
+        add(i, model->stiffness(kinematics(kind, p.radius[i], 0.0)), p.radius[i]);
       }
-  }
+    }
+  });
 
   double dt = std::numeric_limits<double>::infinity();
   double smallest = std::numeric_limits<double>::infinity();

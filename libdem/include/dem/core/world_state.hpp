@@ -63,6 +63,24 @@ struct WorldContacts {
   void for_each_set(F&& f) const {
     f(ball_ball), f(ball_pebble), f(ball_facet), f(ball_surface);
   }
+  /// Calls f(set) for the pair sets only (those with near lists, thread shares and incidence).
+  template <class F>
+  void for_each_pair_set(F&& f) {
+    f(ball_ball), f(ball_pebble);
+  }
+  template <class F>
+  void for_each_pair_set(F&& f) const {
+    f(ball_ball), f(ball_pebble);
+  }
+  /// Calls f(set) for the wall sets only: ball-facet, then ball-surface.
+  template <class F>
+  void for_each_wall_set(F&& f) {
+    f(ball_facet), f(ball_surface);
+  }
+  template <class F>
+  void for_each_wall_set(F&& f) const {
+    f(ball_facet), f(ball_surface);
+  }
   /// The law that computes a set: its own kind for pairs; the ball-facet law for every wall.
   static ContactKind law_kind(const PairContacts& c) { return c.kind; }
   static ContactKind law_kind(const WallContacts&) { return ContactKind::BallFacet; }
