@@ -228,6 +228,9 @@ void BroadPhase::rebuild(WorldState& state, const ContactModelTable& models, int
   carry_history(model(ContactKind::BallPebble), bp, ball_pebble, bp_source);
   mark_touching(bb);
   mark_touching(bp);
+  // The incidence lists are remade below: into the old ones' memory, not freshly touched pages.
+  bb.incidence_offsets = std::move(ball_ball.incidence_offsets), bb.incidence_entries = std::move(ball_ball.incidence_entries);
+  bp.incidence_offsets = std::move(ball_pebble.incidence_offsets), bp.incidence_entries = std::move(ball_pebble.incidence_entries);
   ball_ball = std::move(bb);
   ball_pebble = std::move(bp);
   build_incidence(ball_ball, p.size());

@@ -23,26 +23,12 @@
 #include <dem/core/math.hpp>
 
 // The force functions run once per contact per step inside the engine's templated loop; GCC's
-// heuristics otherwise keep them out of line, which costs about a third of the step.
+// heuristics otherwise keep them out of line, which costs about a third of the step. A law's own
+// force_lanes may use it too; it is the one macro libdem's headers leave defined.
 #if defined(__GNUC__)
 #define DEM_HOT_INLINE __attribute__((always_inline)) inline
 #else
 #define DEM_HOT_INLINE inline
-#endif
-
-// "The iterations of the next loop are independent": lets GCC vectorise a loop whose arrays it
-// cannot prove apart.
-#if defined(__GNUC__) && !defined(__clang__)
-#define DEM_INDEPENDENT_ITERATIONS _Pragma("GCC ivdep")
-#else
-#define DEM_INDEPENDENT_ITERATIONS
-#endif
-
-// "This address will be written soon": starts loading its cache line (a hint; no effect on results).
-#if defined(__GNUC__)
-#define DEM_PREFETCH_FOR_WRITE(address) __builtin_prefetch((address), 1)
-#else
-#define DEM_PREFETCH_FOR_WRITE(address) ((void)(address))
 #endif
 
 namespace dem {

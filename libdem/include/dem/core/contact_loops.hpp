@@ -2,7 +2,8 @@
 // one kind, with the law inlined (run-time choice of law, compile-time loop). The built-in laws'
 // loops are compiled once in the library (linear_law.hpp declares them extern), so a program that
 // uses them needs only contact_model.hpp; a program with a law of its own includes this header
-// (dem/dem.hpp does) where it calls make_contact_model for it.
+// (dem/dem.hpp does) where it calls make_contact_model for it. The attribute macros it defines for
+// the loops are undefined again at its end.
 #pragma once
 
 #include <algorithm>
@@ -20,6 +21,21 @@
 #include <dem/core/block_isa.hpp>
 #include <dem/core/particles.hpp>
 #include <dem/geometry/triangle.hpp>
+
+// "The iterations of the next loop are independent": lets GCC vectorise a loop whose arrays it
+// cannot prove apart.
+#if defined(__GNUC__) && !defined(__clang__)
+#define DEM_INDEPENDENT_ITERATIONS _Pragma("GCC ivdep")
+#else
+#define DEM_INDEPENDENT_ITERATIONS
+#endif
+
+// "This address will be written soon": starts loading its cache line (a hint; no effect on results).
+#if defined(__GNUC__)
+#define DEM_PREFETCH_FOR_WRITE(address) __builtin_prefetch((address), 1)
+#else
+#define DEM_PREFETCH_FOR_WRITE(address) ((void)(address))
+#endif
 
 namespace dem::detail {
 
@@ -573,3 +589,9 @@ std::shared_ptr<const ContactModel> make_contact_model(const typename Law::Param
 }
 
 }  // namespace dem
+
+// The loops above have taken these in; they are not part of the API.
+#undef DEM_INDEPENDENT_ITERATIONS
+#undef DEM_PREFETCH_FOR_WRITE
+#undef DEM_TARGET_AVX2
+#undef DEM_TARGET_AVX512
