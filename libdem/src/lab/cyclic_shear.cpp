@@ -37,15 +37,6 @@ void check_cyclic_inputs(const CyclicShearConfig& config) {
   if (config.path == CyclicShape::Series) (void)CyclicPath::from_csv(config.series_file, 1.0);
 }
 
-std::vector<std::string> CyclicShearTest::history_columns() {
-  return {"time", "step", "phase", "cycles", "shear_strain_x", "shear_strain_y", "shear_strain", "shear_stress_x",
-          "shear_stress_y", "shear_stress", "target_x", "target_y", "vertical_stress", "vertical_stress_bottom",
-          "excess_pore_pressure", "pore_pressure_ratio", "height", "height_change", "stress_ratio", "work",
-          "double_amplitude_strain", "lateral_stress", "sigma_1", "sigma_2", "sigma_3", "coordination_number",
-          "mechanical_coordination_number", "porosity", "specimen_porosity", "non_coaxiality_deg", "kinetic_energy",
-          "balls_outside"};
-}
-
 std::vector<std::string> CyclicShearTest::run_files() {
   return {"cyclic_history.csv", "cycles.csv", "cyclic_fabric.csv", "cyclic_snapshots"};
 }
@@ -56,10 +47,11 @@ CyclicShearTest::CyclicShearTest(SimpleShearTest& specimen, CyclicShearConfig co
       log_(log),
       path_(config_.path == CyclicShape::Series ? CyclicPath::from_csv(config_.series_file, 1.0)
                                                 : CyclicPath(config_.path, config_.direction_deg, config_.minor_ratio)),
-      history_(history_columns(), io::Missing::Allowed),
+      history_(specimen.output_folder() / "cyclic_history.csv"),
       cycles_(horizontal_direction(config_.direction_deg), static_cast<int>(config_.rows_per_cycle)) {
   require(specimen_.stage() == ShearStage::Consolidated, "cyclic shear: the specimen's stage", static_cast<int>(specimen_.stage()),
           "2 (consolidated: run consolidate() or load a consolidated restart)");
+  add_history_columns();
   World& w = specimen_.world();
   const double height = specimen_.consolidated_height();
   shear_rate_ = specimen_.shear_rate();
@@ -122,9 +114,49 @@ void CyclicShearTest::start_phase(CyclicPhase phase) {
   }
 }
 
+void CyclicShearTest::add_history_columns() {
+  const ShearState& s = row_.state;
+  HistoryLog& h = history_;
+  const double& sigma_v0 = outcome_.vertical_stress_initial;
+  const double& height_c = outcome_.consolidated_height;
+  h.add("time", [&s] { return s.time; });
+  h.add("step", [this] { return static_cast<double>(specimen_.world().step_count()); });
+  h.add("phase", [this] { return static_cast<double>(static_cast<int>(current_phase_)); });
+  h.add("cycles", [this] { return row_.cycles; });
+  h.add("shear_strain_x", [&s] { return s.shear_strain_x; });
+  h.add("shear_strain_y", [&s] { return s.shear_strain_y; });
+  h.add("shear_strain", [&s] { return s.shear_strain; });
+  h.add("shear_stress_x", [&s] { return s.shear_stress_x; });
+  h.add("shear_stress_y", [&s] { return s.shear_stress_y; });
+  h.add("shear_stress", [&s] { return s.shear_stress; });
+  h.add("target_x", [this] { return row_.target.x(); });
+  h.add("target_y", [this] { return row_.target.y(); });
+  h.add("vertical_stress", [&s] { return s.vertical_stress; });
+  h.add("vertical_stress_bottom", [&s] { return s.vertical_stress_bottom; });
+  h.add("excess_pore_pressure", [this] { return row_.excess_pore_pressure; });
+  h.add("pore_pressure_ratio", [this, &sigma_v0] { return row_.excess_pore_pressure / sigma_v0; });
+  h.add("height", [&s] { return s.height; });
+  h.add("height_change", [&s, &height_c] { return (s.height - height_c) / height_c; });
+  h.add("stress_ratio", [&s] { return s.vertical_stress > 0 ? s.shear_stress / s.vertical_stress : NAN; });
+  h.add("work", [this] { return drive_->work(); });
+  h.add("double_amplitude_strain", [this] { return row_.double_amplitude; });
+  h.add("lateral_stress", [&s] { return s.lateral_stress; });
+  h.add("sigma_1", [&s] { return s.sphere.principal.sigma_1; });
+  h.add("sigma_2", [&s] { return s.sphere.principal.sigma_2; });
+  h.add("sigma_3", [&s] { return s.sphere.principal.sigma_3; });
+  h.add("coordination_number", [&s] { return s.sphere.coordination_number; });
+  h.add("mechanical_coordination_number", [&s] { return s.sphere.mechanical_coordination_number; });
+  h.add("porosity", [&s] { return s.sphere.porosity; });
+  h.add("specimen_porosity", [&s] { return s.specimen_porosity; });
+  h.add("non_coaxiality_deg", [this] { return row_.non_coaxiality_deg; });
+  h.add("kinetic_energy", [&s] { return s.kinetic_energy; });
+  h.add("balls_outside", [&s] { return static_cast<double>(s.balls_outside); });
+}
+
 void CyclicShearTest::record_row() {
   const World& w = specimen_.world();
-  const ShearState s = specimen_.measure();
+  row_.state = specimen_.measure();
+  const ShearState& s = row_.state;
   const HorizontalDrive& d = *drive_;
   const Wall& top = w.wall(d.settings().top);
   const Wall& bottom = w.wall(d.settings().bottom);
@@ -134,7 +166,6 @@ void CyclicShearTest::record_row() {
   const Mat3 stress = -s.sphere.stress, strain_rate = -s.sphere.strain_rate;
   const double coaxiality = rate.norm() > 0 ? measure::non_coaxiality_deg(stress, strain_rate, rate.normalized()) : NAN;
   const double phase_cycles = d.cycles_at(w.step_count());
-  const Vec3 target = d.target(phase_cycles);
   const double cycles = current_phase_ == CyclicPhase::Cyclic ? phase_cycles
                         : current_phase_ == CyclicPhase::Static ? 0.0 : outcome_.cycles;
   CyclicSample sample;
@@ -148,22 +179,18 @@ void CyclicShearTest::record_row() {
   sample.non_coaxiality_deg = coaxiality;
   sample.vertical_stress = s.vertical_stress;
   if (current_phase_ == CyclicPhase::Cyclic) cycles_.add(sample);
-  const double da = current_phase_ == CyclicPhase::Cyclic ? cycles_.double_amplitude_strain() : NAN;
-  history_.add_row({s.time, static_cast<double>(w.step_count()), static_cast<double>(static_cast<int>(current_phase_)), cycles,
-                    s.shear_strain_x, s.shear_strain_y, s.shear_strain, s.shear_stress_x, s.shear_stress_y, s.shear_stress,
-                    target.x(), target.y(), s.vertical_stress, s.vertical_stress_bottom, excess, excess / sigma_v0, s.height,
-                    (s.height - outcome_.consolidated_height) / outcome_.consolidated_height,
-                    s.vertical_stress > 0 ? s.shear_stress / s.vertical_stress : NAN, d.work(), da, s.lateral_stress,
-                    s.sphere.principal.sigma_1, s.sphere.principal.sigma_2, s.sphere.principal.sigma_3,
-                    s.sphere.coordination_number, s.sphere.mechanical_coordination_number, s.sphere.porosity,
-                    s.specimen_porosity, coaxiality, s.kinetic_energy, static_cast<double>(s.balls_outside)});
+  row_.cycles = cycles;
+  row_.target = d.target(phase_cycles);
+  row_.excess_pore_pressure = excess;
+  row_.double_amplitude = current_phase_ == CyclicPhase::Cyclic ? cycles_.double_amplitude_strain() : NAN;
+  row_.non_coaxiality_deg = coaxiality;
+  history_.record();
   last_sample_ = sample;
-  last_double_amplitude_ = da;
+  last_double_amplitude_ = row_.double_amplitude;
 }
 
 void CyclicShearTest::write_outputs() const {
-  const std::filesystem::path& out = specimen_.output_folder();
-  history_.save(out / "cyclic_history.csv");
+  const std::filesystem::path& out = specimen_.output_folder();  // cyclic_history.csv: saved by every row
   io::CsvTable table(CycleLog::columns(), io::Missing::Allowed);
   for (const CycleRow& r : cycles_.cycles()) table.add_row(CycleLog::values(r));
   table.save(out / "cycles.csv");
@@ -286,12 +313,11 @@ void CyclicShearTest::write_summary(const std::string& resolved_config_json) con
   l["pore_pressure_ratio"] = config_.ru_limit > 0 ? io::Json(outcome_.cycles_to_ru) : io::Json();
   l["double_amplitude_strain"] = config_.da_strain_limit > 0 ? io::Json(outcome_.cycles_to_da_strain) : io::Json();
   j["cycles_to_liquefaction"] = l;
-  if (!history_.rows().empty()) {
+  if (history_.rows() > 0) {
     io::Json f;
-    const auto& last = history_.rows().back();
     for (const char* name : {"shear_strain", "shear_stress", "vertical_stress", "pore_pressure_ratio", "double_amplitude_strain",
                              "coordination_number", "mechanical_coordination_number"})
-      f[name] = last[history_.column_index(name)];
+      f[name] = history_.last(name);
     j["final"] = f;
   }
   j["wall_clock_s"] = outcome_.wall_seconds;

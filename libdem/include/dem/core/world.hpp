@@ -1,5 +1,6 @@
-// The World owns a simulation: particles, clumps, facet walls, the contact models of each contact
-// type, the broad phase and the clock. There are no globals: two Worlds are independent.
+// The World owns a simulation: its state (WorldState: particles, clumps, walls, the contact sets
+// and the clock), the contact model of each contact kind, and the broad phase (BroadPhase) that
+// keeps the contact lists. There are no globals: two Worlds are independent.
 //
 // A step (leapfrog, as PFC's velocity Verlet with velocities half a step behind, docs/model.md 2):
 //   1. rebuild the Verlet lists if something moved more than allowed by the skin, and refresh
@@ -42,7 +43,7 @@ struct StepTiming {
   double rebuilds = 0.0;     // s, neighbour lists (cell grid, pair and wall candidates, near lists)
   double ball_ball = 0.0;    // s, the ball-ball contact laws over the pair list
   double ball_pebble = 0.0;  // s, the ball-pebble contact laws (the rings)
-  double ball_facet = 0.0;   // s, the ball-facet contact laws (the walls)
+  double ball_facet = 0.0;   // s, the ball-wall contact laws (facet and analytic walls)
   double force_sums = 0.0;   // s, zeroing, gathering and summing forces on balls and walls, overlap check
   double controllers = 0.0;  // s, servo walls and protocol controllers
   double integration = 0.0;  // s, balls, clumps and pebbles, walls
@@ -123,9 +124,9 @@ class World {
   void set_max_overlap_ratio(double ratio);
   void set_gravity(const Vec3& g) { state_.settings.gravity = g; }
 
-  /// Visits every touching contact of the last step.
+  /// Visits every touching contact of the last step (a ball on an analytic wall: kind ball-facet).
   void for_each_contact(const std::function<void(const ContactView&)>& visit) const;
-  /// Number of touching contacts of a type in the last step.
+  /// Number of touching contacts of a type in the last step (ball-facet: with facet and analytic walls).
   std::size_t contact_count(ContactKind kind) const;
   /// Translational + rotational kinetic energy of balls and clumps, J (velocities at t - dt/2).
   double kinetic_energy() const;

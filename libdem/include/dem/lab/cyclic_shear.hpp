@@ -35,6 +35,7 @@
 #include <dem/lab/cycle_log.hpp>
 #include <dem/lab/cyclic_path.hpp>
 #include <dem/lab/cyclic_shear_config.hpp>
+#include <dem/lab/history_log.hpp>
 #include <dem/lab/horizontal_drive.hpp>
 #include <dem/lab/simple_shear.hpp>
 
@@ -78,9 +79,9 @@ class CyclicShearTest {
 
   /// The files and folders, relative to the output folder, that this test adds to a run's.
   static std::vector<std::string> run_files();
-  static std::vector<std::string> history_columns();
 
-  const io::CsvTable& history() const { return history_; }
+  /// The rows of cyclic_history.csv so far.
+  const io::CsvTable& history() const { return history_.table(); }
   const CycleLog& cycles() const { return cycles_; }
   const CyclicOutcome& outcome() const { return outcome_; }
   const CyclicShearConfig& config() const { return config_; }
@@ -89,6 +90,17 @@ class CyclicShearTest {
 
  private:
   void start_phase(CyclicPhase phase);
+  /// What one history row reports, measured by record_row.
+  struct Row {
+    ShearState state;
+    double cycles = 0.0;              // -, cycles of the current phase's path
+    Vec3 target = Vec3::Zero();       // Pa or -, the drive's target
+    double excess_pore_pressure = 0;  // Pa, sigma_v0 - sigma_v
+    double double_amplitude = NAN;    // -, of the last full cycle
+    double non_coaxiality_deg = NAN;  // deg
+  };
+  /// The columns of cyclic_history.csv, each read from row_.
+  void add_history_columns();
   /// Measures the specimen now: one history row, and a sample of the cycle log in the cyclic stage.
   void record_row();
   void progress(double cycles) const;
@@ -101,7 +113,8 @@ class CyclicShearTest {
   std::ostream& log_;
   CyclicPath path_;
   std::shared_ptr<HorizontalDrive> drive_;  // the World's controller holds it weakly
-  io::CsvTable history_;
+  HistoryLog history_;  // cyclic_history.csv, saved at every row
+  Row row_;
   CycleLog cycles_;
   CyclicOutcome outcome_;
   std::unique_ptr<FabricLog> fabric_;
