@@ -7,10 +7,11 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <iterator>
 #include <exception>
 #include <fstream>
 #include <iomanip>
-#include <mutex>
 #include <ostream>
 #include <sstream>
 
@@ -81,6 +82,29 @@ const TrialColumn trial_columns[] = {
 };
 #undef DEM_TRIAL_COLUMN
 
+// A trial's columns as the bytes of their doubles, to carry it between processes bit for bit.
+std::string trial_bytes(const TrialResult& t) {
+  std::string bytes;
+  for (const TrialColumn& c : trial_columns) {
+    const double v = c.get(t);
+    bytes.append(reinterpret_cast<const char*>(&v), sizeof v);
+  }
+  return bytes;
+}
+
+TrialResult trial_from_bytes(const std::string& bytes) {
+  if (bytes.size() != std::size(trial_columns) * sizeof(double))
+    throw std::runtime_error("a trial's result arrived with " + std::to_string(bytes.size()) + " bytes, not " +
+                             std::to_string(std::size(trial_columns) * sizeof(double)));
+  TrialResult t;
+  for (std::size_t k = 0; k < std::size(trial_columns); ++k) {
+    double v = 0;
+    std::memcpy(&v, bytes.data() + k * sizeof v, sizeof v);
+    trial_columns[k].set(t, v);
+  }
+  return t;
+}
+
 const char* const stage_names[] = {"outside the searches", "1 (E*, initial slope)", "2 (mu, peak)", "3 (mu_r, peak or dilatancy)",
                                    "4 (mu and mu_r, whole curve)"};
 
@@ -89,7 +113,6 @@ const char* const stage_names[] = {"outside the searches", "1 (E*, initial slope
 // ------------------------------------------------------------------------- Calibration
 
 struct Calibration::Progress {
-  std::mutex mutex;
   Clock::time_point start = Clock::now();
   int asked = 0;           // trials the searches asked for in this run
   int max_trials = 0;      // upper bound of `asked`
@@ -101,8 +124,9 @@ struct Calibration::Progress {
 };
 
 Calibration::Calibration(io::Config config, CalibrationSettings settings, LabCurve lab, fs::path out_dir, fs::path from,
-                         std::ostream& log)
+                         std::ostream& log, parallel::TaskFarm* farm)
     : config_(std::move(config)), settings_(settings), lab_(std::move(lab)), out_dir_(std::move(out_dir)), log_(log),
+      own_farm_(farm ? nullptr : std::make_unique<parallel::LocalFarm>()), farm_(farm ? farm : own_farm_.get()),
       progress_(std::make_unique<Progress>()) {
   require(settings_.threads >= 1, "--threads", settings_.threads, ">= 1");
   require(settings_.parallel_trials >= 1, "--parallel-trials", settings_.parallel_trials, ">= 1");
@@ -139,11 +163,22 @@ Calibration::Calibration(io::Config config, CalibrationSettings settings, LabCur
   shear.output.every_strain = std::min(shear.output.every_strain, lab_.max_strain() / 50.0);
 
   // Locked against a second calibration into the same folder; its own results are resumed below.
+  // The leading process claims the folder and checks the set-up; the others read the trials after it.
+  const std::string setup = setup_text() + "from " + (from.empty() ? std::string("none") : file_hash(from)) + "\n";
+  if (farm_->leads()) claim_folder(setup);
+  farm_->barrier();
+  if (fs::exists(out_dir_ / "trials.csv")) {
+    load_trials();
+    log_ << "resuming: " << trials_.size() << " finished trial(s) in " << (out_dir_ / "trials.csv").string() << "\n";
+  }
+  shears_ = std::make_unique<ShearTrials>(std::move(shear), out_dir_, from, settings_.fit_modulus, log_, settings_.modulus_specimen, farm_);
+}
+
+void Calibration::claim_folder(const std::string& setup) {
   io::OutputFolderPolicy policy;
   policy.continues_own_run = true;
   policy.program = "dem-calibrate";
   folder_ = std::make_unique<io::OutputFolder>(out_dir_, policy);
-  const std::string setup = setup_text() + "from " + (from.empty() ? std::string("none") : file_hash(from)) + "\n";
   const fs::path setup_file = out_dir_ / "setup.txt";
   std::string old_setup;
   if (fs::exists(setup_file)) {
@@ -165,13 +200,9 @@ Calibration::Calibration(io::Config config, CalibrationSettings settings, LabCur
     fs::remove_all(out_dir_ / "specimen");
     fs::remove_all(out_dir_ / "trials");
   }
-  if (fs::exists(out_dir_ / "trials.csv")) {
+  if (fs::exists(out_dir_ / "trials.csv"))
     require(old_setup == setup, (out_dir_ / "setup.txt").string(), "(missing)", "present beside trials.csv (written by dem-calibrate)");
-    load_trials();
-    log_ << "resuming: " << trials_.size() << " finished trial(s) in " << (out_dir_ / "trials.csv").string() << "\n";
-  }
   io::write_atomically(setup_file, [&](std::ostream& out) { out << setup; });
-  shears_ = std::make_unique<ShearTrials>(std::move(shear), out_dir_, from, settings_.fit_modulus, log_, settings_.modulus_specimen);
 }
 
 Calibration::~Calibration() = default;
@@ -276,10 +307,11 @@ std::vector<TrialResult> Calibration::evaluate(const std::vector<ContactFit>& ba
   for (std::size_t i : todo) moduli.push_back(batch[i].effective_modulus);
   const std::vector<double> prepare_seconds = shears_->prepare(moduli, settings_.parallel_trials, threads);
 
-  auto report = [&](const TrialResult& t, bool reused) {
+  // `rank`: the MPI rank that ran the trial, named when there are several; -1 for a reused one.
+  auto report = [&](const TrialResult& t, bool reused, int rank) {
     ++p.asked;
     const double per_trial = p.new_trials > 0 ? p.new_seconds / p.new_trials : 0.0;
-    const double left = per_trial * std::max(0, p.max_trials - p.asked) / settings_.parallel_trials;
+    const double left = per_trial * std::max(0, p.max_trials - p.asked) / (settings_.parallel_trials * farm_->processes());
     // The search's current point (best for its stage's feature) and, separately, the finished
     // trial with the lowest objective: in stages 1-3 the two differ.
     const auto current = std::find_if(trials_.begin(), trials_.end(), [&](const TrialResult& x) { return x.fit == p.current; });
@@ -287,6 +319,7 @@ std::vector<TrialResult> Calibration::evaluate(const std::vector<ContactFit>& ba
                                          [&](const TrialResult& a, const TrialResult& b) { return objective(a) < objective(b); });
     std::ostringstream line;
     line << "trial " << p.asked << " of at most " << p.max_trials << ", stage " << stage_names[stage] << (reused ? ", reused" : "")
+         << (rank >= 0 && farm_->processes() > 1 ? " on rank " + std::to_string(rank) : std::string())
          << ": " << describe(t.fit) << ", mean RD " << detail::short_text(t.stress_rd_mean, 3) << " %";
     if (t.volumetric_rd_mean >= 0) line << " (volumetric " << detail::short_text(t.volumetric_rd_mean, 3) << " %)";
     if (current != trials_.end() && current->fit != t.fit) line << " | search at: " << describe(current->fit);
@@ -297,30 +330,35 @@ std::vector<TrialResult> Calibration::evaluate(const std::vector<ContactFit>& ba
     log_ << line.str() << std::endl;
   };
   for (std::size_t i = 0; i < batch.size(); ++i)
-    if (ready[i]) report(out[i], true);
+    if (ready[i]) report(out[i], true, -1);
 
-  detail::run_parallel(todo.size(), settings_.parallel_trials, [&](std::size_t k) {
-    const std::size_t i = todo[k];
-    const auto t0 = Clock::now();
-    ModelCurve model;
-    try {
-      model = shears_->shear(batch[i], target_strain_, numbers[i], threads);
-    } catch (const InputError& e) {
-      throw InputError("trial " + std::to_string(numbers[i]) + " (" + describe(batch[i]) + "): " + e.what());
-    } catch (const std::exception& e) {
-      throw std::runtime_error("trial " + std::to_string(numbers[i]) + " (" + describe(batch[i]) + "): " + e.what());
-    }
-    const TrialResult t = measure(batch[i], model, numbers[i], stage, seconds_since(t0) + prepare_seconds[k]);
-    const std::lock_guard<std::mutex> lock(p.mutex);
-    const auto at = std::lower_bound(trials_.begin(), trials_.end(), t.trial, [](const TrialResult& x, int n) { return x.trial < n; });
-    trials_.insert(at, t);
-    save_trials();
-    ++p.new_trials;
-    p.new_seconds += t.seconds;
-    out[i] = t;
-    ready[i] = true;
-    report(t, false);
-  });
+  // A trial runs on one process; its result reaches every process as the bytes of its columns.
+  farm_->run(
+      todo.size(), settings_.parallel_trials,
+      [&](std::size_t k) {
+        const std::size_t i = todo[k];
+        const auto t0 = Clock::now();
+        ModelCurve model;
+        try {
+          model = shears_->shear(batch[i], target_strain_, numbers[i], threads);
+        } catch (const InputError& e) {
+          throw InputError("trial " + std::to_string(numbers[i]) + " (" + describe(batch[i]) + "): " + e.what());
+        } catch (const std::exception& e) {
+          throw std::runtime_error("trial " + std::to_string(numbers[i]) + " (" + describe(batch[i]) + "): " + e.what());
+        }
+        return trial_bytes(measure(batch[i], model, numbers[i], stage, seconds_since(t0) + prepare_seconds[k]));
+      },
+      [&](std::size_t k, const std::string& bytes) {
+        const TrialResult t = trial_from_bytes(bytes);
+        const auto at = std::lower_bound(trials_.begin(), trials_.end(), t.trial, [](const TrialResult& x, int n) { return x.trial < n; });
+        trials_.insert(at, t);
+        if (farm_->leads()) save_trials();
+        ++p.new_trials;
+        p.new_seconds += t.seconds;
+        out[todo[k]] = t;
+        ready[todo[k]] = true;
+        report(t, false, static_cast<int>(k % static_cast<std::size_t>(farm_->processes())));
+      });
   for (std::size_t i = 0; i < batch.size(); ++i)
     if (!ready[i])  // the same parameters twice in one batch
       out[i] = *std::find_if(trials_.begin(), trials_.end(), [&](const TrialResult& t) { return t.fit == batch[i]; });
@@ -330,10 +368,16 @@ std::vector<TrialResult> Calibration::evaluate(const std::vector<ContactFit>& ba
 
 CurveComparison Calibration::comparison(const TrialResult& trial) {
   std::optional<ModelCurve> model = shears_->stored_curve(trial.trial);
-  if (!model) {
+  if (!model) {  // sheared again by one process, then read by all from its folder
     const int threads = std::max(1, settings_.threads);
     shears_->prepare({trial.fit.effective_modulus}, 1, threads);
-    model = shears_->shear(trial.fit, target_strain_, trial.trial, threads);
+    farm_->on_leader([&] {
+      shears_->shear(trial.fit, target_strain_, trial.trial, threads);
+      return std::string();
+    });
+    model = shears_->stored_curve(trial.trial);
+    require(model.has_value(), "history of trial " + std::to_string(trial.trial), "(missing)",
+            "written by its shear in the output folder, which every process must see");
   }
   return compare_curves(lab_, *model, settings_.comparison);
 }
@@ -498,6 +542,7 @@ CalibrationResult Calibration::run() {
 void Calibration::write_outputs(const CalibrationResult& result) {
   const TrialResult& best = result.best_trial;
   const CurveComparison c = comparison(best);
+  if (!farm_->leads()) return;
 
   std::vector<std::string> columns = {"shear_strain", "lab_shear_stress_Pa", "model_shear_stress_Pa", "shear_stress_rd_percent"};
   if (lab_.has_volumetric())
@@ -574,6 +619,7 @@ void Calibration::write_outputs(const CalibrationResult& result) {
   j["trial_seconds_all_runs"] = trial_seconds;
   j["threads"] = settings_.threads;
   j["parallel_trials"] = settings_.parallel_trials;
+  j["processes"] = farm_->processes();
   j["configuration"] = io::Json::parse(calibrated.to_json());
   io::save_json(out_dir_ / "summary.json", j);
 }

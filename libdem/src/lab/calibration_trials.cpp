@@ -3,16 +3,13 @@
 #include <dem/lab/calibration.hpp>
 
 #include <algorithm>
-#include <atomic>
 #include <charconv>
 #include <chrono>
-#include <exception>
 #include <fstream>
 #include <iomanip>
 #include <limits>
 #include <ostream>
 #include <sstream>
-#include <thread>
 
 #include <dem/core/errors.hpp>
 #include <dem/io/csv.hpp>
@@ -36,29 +33,6 @@ std::string exact_text(double v) {
   return {buffer, result.ptr};
 }
 
-void run_parallel(std::size_t n, int workers, const std::function<void(std::size_t)>& job) {
-  if (workers <= 1 || n <= 1) {
-    for (std::size_t i = 0; i < n; ++i) job(i);
-    return;
-  }
-  std::atomic<std::size_t> next{0};
-  std::vector<std::exception_ptr> errors(n);
-  std::vector<std::thread> pool;
-  for (std::size_t w = 0; w < std::min<std::size_t>(static_cast<std::size_t>(workers), n); ++w)
-    pool.emplace_back([&] {
-      for (std::size_t i = next++; i < n; i = next++) {
-        try {
-          job(i);
-        } catch (...) {
-          errors[i] = std::current_exception();
-        }
-      }
-    });
-  for (std::thread& t : pool) t.join();
-  for (const std::exception_ptr& e : errors)
-    if (e) std::rethrow_exception(e);
-}
-
 }  // namespace detail
 
 namespace {
@@ -70,8 +44,9 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 ShearTrials::ShearTrials(SimpleShearConfig base, fs::path out_dir, fs::path from, bool fit_modulus, std::ostream& log,
-                         ModulusSpecimen rule)
-    : base_(std::move(base)), out_dir_(std::move(out_dir)), log_(log), rule_(rule) {
+                         ModulusSpecimen rule, parallel::TaskFarm* farm)
+    : base_(std::move(base)), out_dir_(std::move(out_dir)), log_(log), rule_(rule),
+      own_farm_(farm ? nullptr : std::make_unique<parallel::LocalFarm>()), farm_(farm ? farm : own_farm_.get()) {
   // Trials need neither roses nor snapshots nor periodic restarts: only the history.
   base_.output.fabric_strains.clear();
   base_.output.snapshot_strains.clear();
@@ -86,22 +61,26 @@ ShearTrials::ShearTrials(SimpleShearConfig base, fs::path out_dir, fs::path from
   if (from.empty()) return;
 
   // Which stage does the restart hold? Load it once in a scratch folder.
-  const fs::path probe = out_dir_ / "specimen" / "probe";
-  fs::remove_all(probe);
-  ShearStage stage = ShearStage::Empty;
-  {
-    std::ofstream sink(probe / "log.txt");
-    SimpleShearTest test(config_for({base_.ball_ball.effective_modulus, base_.ball_ball.friction, base_.ball_ball.rolling_friction}, 1),
-                         probe, sink);
-    try {
-      test.load_restart(from);
-    } catch (const InputError& e) {
-      throw InputError("--from " + from.string() + ": " + e.what() +
-                       " (the restart's folder must still hold the history.csv, fabric.csv and snapshots/ written with it)");
+  const std::string stage_text = farm_->on_leader([&] {
+    const fs::path probe = out_dir_ / "specimen" / "probe";
+    fs::remove_all(probe);
+    ShearStage held = ShearStage::Empty;
+    {
+      std::ofstream sink(probe / "log.txt");
+      SimpleShearTest test(config_for({base_.ball_ball.effective_modulus, base_.ball_ball.friction, base_.ball_ball.rolling_friction}, 1),
+                           probe, sink);
+      try {
+        test.load_restart(from);
+      } catch (const InputError& e) {
+        throw InputError("--from " + from.string() + ": " + e.what() +
+                         " (the restart's folder must still hold the history.csv, fabric.csv and snapshots/ written with it)");
+      }
+      held = test.stage();
     }
-    stage = test.stage();
-  }
-  fs::remove_all(probe);
+    fs::remove_all(probe);
+    return std::to_string(static_cast<int>(held));
+  });
+  const auto stage = static_cast<ShearStage>(std::stoi(stage_text));
   if (stage == ShearStage::Generated) {
     generated_restart_ = from;
     generated_files_ = from.parent_path();
@@ -155,22 +134,32 @@ std::vector<double> ShearTrials::prepare(const std::vector<double>& moduli, int 
   }
   if (todo.empty()) return seconds;
 
-  // Reconsolidated specimens start from the one of the starting E*: make that first.
+  // Reconsolidated specimens start from the one of the starting E*: make that first. Each specimen
+  // is made by one process; the farm hands its seconds to every process.
+  auto timed = [](const std::function<void()>& make) {
+    const auto t0 = std::chrono::steady_clock::now();
+    make();
+    return detail::exact_text(seconds_since(t0));
+  };
   const bool from_reference = rule_ == ModulusSpecimen::Reconsolidated;
   double reference_seconds = 0.0;
-  if (from_reference && !fs::exists(specimen_restart(start_modulus))) {
-    const auto t0 = std::chrono::steady_clock::now();
-    generate_once(parallel * threads);
-    consolidate_specimen(start_modulus, parallel * threads);
-    reference_seconds = seconds_since(t0);
-  }
-  if (!from_reference) generate_once(parallel * threads);
-  detail::run_parallel(todo.size(), parallel, [&](std::size_t k) {
-    const std::size_t i = todo[k];
-    const auto t0 = std::chrono::steady_clock::now();
-    if (!from_reference || moduli[i] != start_modulus) consolidate_specimen(moduli[i], threads);
-    seconds[i] = seconds_since(t0);
-  });
+  if (from_reference && !fs::exists(specimen_restart(start_modulus)))
+    reference_seconds = std::stod(farm_->on_leader([&] {
+      return timed([&] {
+        generate_once(parallel * threads);
+        consolidate_specimen(start_modulus, parallel * threads);
+      });
+    }));
+  if (!from_reference) farm_->on_leader([&] { return timed([&] { generate_once(parallel * threads); }); });
+  farm_->run(
+      todo.size(), parallel,
+      [&](std::size_t k) {
+        const std::size_t i = todo[k];
+        return timed([&] {
+          if (!from_reference || moduli[i] != start_modulus) consolidate_specimen(moduli[i], threads);
+        });
+      },
+      [&](std::size_t k, const std::string& result) { seconds[todo[k]] = std::stod(result); });
   if (from_reference) seconds[todo.front()] += reference_seconds;
   return seconds;
 }

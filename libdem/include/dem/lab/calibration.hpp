@@ -28,6 +28,12 @@
 // reuses them, and because the searches decide only on whole batches, the same trials come back
 // in the same order whatever --parallel-trials is. setup.txt guards against resuming with another
 // lab file or configuration.
+//
+// Over MPI ranks (a parallel::TaskFarm of several processes): every rank runs the same searches;
+// a batch's trials and the specimens of its E* are spread over the ranks, and every rank gets every
+// result, so all take the same next step. The output folder must be on a file system all ranks
+// see (they load the specimens' restart files); the leading rank writes the calibration's own
+// files (setup.txt, trials.csv, comparison.csv, calibrated.ini, summary.json).
 #pragma once
 
 #include <cstddef>
@@ -43,6 +49,7 @@
 #include <dem/io/output_folder.hpp>
 #include <dem/lab/lab_curve.hpp>
 #include <dem/lab/simple_shear_config.hpp>
+#include <dem/parallel/task_farm.hpp>
 
 namespace dem::lab {
 
@@ -236,23 +243,27 @@ class ShearTrials {
   /// after generation or consolidation (InputError otherwise, or for a consolidated one when
   /// `fit_modulus` with the Generated rule); a consolidated one is the specimen of the starting
   /// E*, and keeps the output interval it was written with for the first row.
+  /// `farm`: the processes that share the specimens and trials; nullptr for this process alone.
   ShearTrials(SimpleShearConfig base, std::filesystem::path out_dir, std::filesystem::path from, bool fit_modulus,
-              std::ostream& log, ModulusSpecimen rule = ModulusSpecimen::Reconsolidated);
+              std::ostream& log, ModulusSpecimen rule = ModulusSpecimen::Reconsolidated, parallel::TaskFarm* farm = nullptr);
   ~ShearTrials();
   ShearTrials(const ShearTrials&) = delete;
   ShearTrials& operator=(const ShearTrials&) = delete;
 
-  /// Makes sure a consolidated specimen exists for each E* (Pa), `parallel` at a time with
-  /// `threads` OpenMP threads each. Returns the wall-clock seconds per E*, 0 for one that existed.
+  /// Makes sure a consolidated specimen exists for each E* (Pa), `parallel` at a time on each
+  /// process with `threads` OpenMP threads each. Returns the wall-clock seconds per E*, 0 for one
+  /// that existed. Every process of the farm calls it.
   std::vector<double> prepare(const std::vector<double>& moduli, int parallel, int threads);
   /// Shears the consolidated specimen of fit.effective_modulus (prepared before) with `fit` to
   /// shear strain `strain` in trials/<number>/, a history row every output_every_strain of the
-  /// base configuration. Returns the model curve; the folder keeps history.csv and log.txt.
+  /// base configuration. Returns the model curve; the folder keeps history.csv and log.txt. Runs on
+  /// the process that calls it alone.
   ModelCurve shear(const ContactFit& fit, double strain, int number, int threads) const;
   /// The history of a finished trial, or nullopt if its folder has none.
   std::optional<ModelCurve> stored_curve(int number) const;
 
   const std::filesystem::path& out_dir() const { return out_dir_; }
+  parallel::TaskFarm& farm() const { return *farm_; }
 
  private:
   std::filesystem::path specimen_dir(double modulus) const;
@@ -266,6 +277,8 @@ class ShearTrials {
   std::filesystem::path out_dir_;
   std::ostream& log_;
   ModulusSpecimen rule_;
+  std::unique_ptr<parallel::LocalFarm> own_farm_;  // when given none
+  parallel::TaskFarm* farm_;
   std::filesystem::path generated_restart_, generated_files_;  // generated state and its folder
   std::filesystem::path given_consolidated_;                    // --from after consolidation
 };
@@ -283,9 +296,11 @@ class Calibration {
  public:
   /// `config`: a calibration_schema() configuration (starting parameters, protocol, search
   /// keys); `settings` from calibration_settings() plus the command line. Checks the lab curve
-  /// against the settings and an existing --out against this setup (InputError).
+  /// against the settings and an existing --out against this setup (InputError). `farm`: the
+  /// processes that share the trials (each one constructs its Calibration with the same
+  /// arguments); nullptr for this process alone.
   Calibration(io::Config config, CalibrationSettings settings, LabCurve lab, std::filesystem::path out_dir,
-              std::filesystem::path from, std::ostream& log);
+              std::filesystem::path from, std::ostream& log, parallel::TaskFarm* farm = nullptr);
   ~Calibration();
   Calibration(const Calibration&) = delete;
   Calibration& operator=(const Calibration&) = delete;
@@ -293,8 +308,8 @@ class Calibration {
   /// The four stages, then calibrated.ini, comparison.csv and summary.json in the output folder.
   CalibrationResult run();
 
-  /// Evaluates a batch (trials.csv first), `parallel_trials` at a time; public so that other
-  /// designs of experiments can use the same specimen, cache and outputs.
+  /// Evaluates a batch (trials.csv first), `parallel_trials` at a time on each process; public so
+  /// that other designs of experiments can use the same specimen, cache and outputs.
   std::vector<TrialResult> evaluate(const std::vector<ContactFit>& batch, int stage);
   /// Trials finished so far, by number.
   const std::vector<TrialResult>& trials() const { return trials_; }
@@ -305,6 +320,7 @@ class Calibration {
   struct Progress;
   TrialResult measure(const ContactFit& fit, const ModelCurve& model, int number, int stage, double seconds) const;
   double objective(const TrialResult& t) const;
+  void claim_folder(const std::string& setup);  // lock, set-up check, setup.txt (leading process)
   void save_trials() const;
   void load_trials();
   void write_outputs(const CalibrationResult& result);
@@ -314,8 +330,10 @@ class Calibration {
   CalibrationSettings settings_;
   LabCurve lab_;
   std::filesystem::path out_dir_;
-  std::unique_ptr<io::OutputFolder> folder_;  // locked for the calibration's lifetime
+  std::unique_ptr<io::OutputFolder> folder_;  // locked for the calibration's lifetime (leading process)
   std::ostream& log_;
+  std::unique_ptr<parallel::LocalFarm> own_farm_;  // when given none
+  parallel::TaskFarm* farm_;
   ContactFit start_;
   double lab_slope_ = 0, lab_peak_ = 0, slope_limit_ = 0, target_strain_ = 0;
   bool rolling_by_dilatancy_ = false;  // stage 3 matches the late dilatancy (else the peak)
@@ -330,10 +348,6 @@ namespace detail {
 std::string exact_text(double v);
 /// `digits` significant digits, for progress lines and messages.
 std::string short_text(double v, int digits = 4);
-/// Runs job(0), ..., job(n - 1), `workers` at a time on std::threads. Every job runs even if
-/// another fails; then the exception of the lowest failed index is rethrown, so which error is
-/// reported does not depend on timing.
-void run_parallel(std::size_t n, int workers, const std::function<void(std::size_t)>& job);
 }  // namespace detail
 
 }  // namespace dem::lab
