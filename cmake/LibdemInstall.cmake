@@ -5,7 +5,13 @@ include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
 set(LIBDEM_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/libdem)
-install(TARGETS dem EXPORT libdemTargets
+set(LIBDEM_INSTALL_TARGETS dem)
+set(LIBDEM_WITH_MPI OFF)
+if(TARGET dem_mpi)
+  list(APPEND LIBDEM_INSTALL_TARGETS dem_mpi)  # libdem::mpi
+  set(LIBDEM_WITH_MPI ON)
+endif()
+install(TARGETS ${LIBDEM_INSTALL_TARGETS} EXPORT libdemTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}

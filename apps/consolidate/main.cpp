@@ -10,12 +10,14 @@
 #include <dem/lab/simple_shear.hpp>
 
 #include "cli/shear_command_line.hpp"
+#include "cli/task_farm.hpp"
 
 int main(int argc, char** argv) {
   try {
     const auto cli = dem::cli::parse_shear_command_line(
         argc, argv, "dem-consolidate", "generate and consolidate a simple-shear specimen; writes consolidated.restart", std::cout);
     if (!cli) return 0;
+    dem::cli::require_one_process("dem-consolidate");
     dem::lab::SimpleShearTest test(cli->config, cli->out_dir, std::cout);
     test.record_configuration(*cli->configuration);
     // A consolidated specimen is consolidated again with this configuration's contact parameters.

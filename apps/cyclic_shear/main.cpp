@@ -8,11 +8,13 @@
 #include <dem/lab/cyclic_shear.hpp>
 
 #include "cli/cyclic_command_line.hpp"
+#include "cli/task_farm.hpp"
 
 int main(int argc, char** argv) {
   try {
     const auto cli = dem::cli::parse_cyclic_command_line(argc, argv, std::cout);
     if (!cli) return 0;
+    dem::cli::require_one_process("dem-cyclic-shear");
     dem::lab::check_cyclic_inputs(cli->cyclic);  // before minutes of generation
     const dem::cli::ShearCommandLine& run = cli->specimen;
     dem::lab::SimpleShearTest specimen(run.config, run.out_dir, std::cout);

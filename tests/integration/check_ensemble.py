@@ -7,7 +7,7 @@ mean in ensemble.csv is the mean of the two seeds' values of that row and column
 max, std is the sample standard deviation |a - b| / sqrt(2); ensemble.json's ball count is the
 mean of the summaries'; a second call runs nothing again; scripts/plot draws the ensemble.
 
-Usage: check_ensemble.py SOURCE_DIR DEM_SIMPLE_SHEAR
+Usage: check_ensemble.py SOURCE_DIR DEM_ENSEMBLE
 """
 
 import json
