@@ -35,8 +35,8 @@ std::optional<CalibrationCommandLine> parse_calibration_command_line(int argc, c
            "trial shears it along the first shear direction to the lab's largest strain.\n\n"
            "Usage: dem-calibrate --lab lab.csv [--preset 4D] [--config FILE] [--set key=value ...] [--out DIR]\n"
            "                     [--fit emod,friction,rolling] [--from FILE] [--threads N] [--parallel-trials N]\n"
-           "       mpirun -n RANKS dem-calibrate ... (each round's trials spread over the ranks, --threads each; --out on a\n"
-           "       file system every rank sees; the same trials.csv on any rank count)\n\n"
+           "       mpirun --bind-to none -n RANKS dem-calibrate ... (each round's trials spread over the ranks, --threads\n"
+           "       each; --out on a file system every rank sees; trials.csv the same on any rank count but for its seconds)\n\n"
         << opts << "\nLab curve (--lab), CSV: " << lab::lab_curve_columns_help
         << "\nSpecimen: generated once (or --from), consolidated with the starting E*, mu and mu_r, and consolidated again\n"
            "at each other E* (same packing; calibration.modulus_specimen); every trial of an E* loads its specimen with its\n"

@@ -11,9 +11,15 @@
 namespace dem::cli {
 
 std::unique_ptr<parallel::TaskFarm> open_task_farm([[maybe_unused]] int& argc, [[maybe_unused]] char**& argv) {
-  if (parallel::launched_ranks() == 0) return std::make_unique<parallel::LocalFarm>();
+  const int launched = parallel::launched_ranks();
+  if (launched == 0) return std::make_unique<parallel::LocalFarm>();
 #ifdef LIBDEM_WITH_MPI
-  return std::make_unique<parallel::MpiFarm>(argc, argv);
+  auto farm = std::make_unique<parallel::MpiFarm>(argc, argv);
+  if (launched > 0 && farm->processes() != launched)
+    throw InputError("the launcher started " + std::to_string(launched) + " tasks, but MPI sees " +
+                     std::to_string(farm->processes()) + " rank(s) in this one: each would do the whole run (with srun, "
+                     "give it the MPI plugin of this OpenMPI, e.g. srun --mpi=pmix)");
+  return farm;
 #else
   throw InputError("started by an MPI launcher, but built without MPI: run it without mpirun, or install libopenmpi-dev "
                    "(scripts/install-deps) and build again");

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <string>
@@ -26,7 +27,7 @@ constexpr const char* usage =
     "Usage: dem-ensemble --seeds 1-3 --out DIR [--jobs N] -- [dem-simple-shear options]\n"
     "       mpirun -n 3 dem-ensemble --seeds 1-6 --out DIR -- --preset 2D --threads 1\n\n"
     "  --seeds LIST   seeds, e.g. 1-5 or 1,4,7 (distinct integers >= 0); seed K runs in DIR/seed_K\n"
-    "  --out DIR      ensemble folder\n"
+    "  --out DIR      ensemble folder (under mpirun: on a file system every rank sees)\n"
     "  --jobs N       seeds at a time on each process (default 1); give each --threads cores / N\n"
     "Options after -- go to every seed's dem-simple-shear (not --out, --from or specimen.seed).\n"
     "A seed with DIR/seed_K/summary.json is done; one with DIR/seed_K/restart.restart continues from it.\n"
@@ -39,25 +40,54 @@ struct EnsembleCommandLine {
   std::vector<std::string> shear_args;  // after "--"
 };
 
+constexpr long most_seeds = 100000;
+
+// A whole non-negative integer, or nullopt.
+std::optional<long> whole_number(const std::string& text) {
+  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos || text.size() > 12) return std::nullopt;
+  return std::stol(text);
+}
+
 std::vector<long> seed_list(const std::string& text) {
-  const std::string allowed = "distinct integers >= 0, like 1-5 or 1,4,7";
+  const auto refuse = [&] {
+    return dem::InputError("--seeds = " + text + ": must be distinct integers >= 0, like 1-5 or 1,4,7, at most " +
+                           std::to_string(most_seeds) + " of them");
+  };
   std::vector<long> seeds;
   std::istringstream parts(text);
   for (std::string part; std::getline(parts, part, ',');) {
-    try {
-      std::size_t used = 0;
-      const std::size_t dash = part.find('-', 1);
-      const long lo = std::stol(part.substr(0, dash), &used);
-      const long hi = dash == std::string::npos ? lo : std::stol(part.substr(dash + 1));
-      if (lo < 0 || hi < lo || (dash == std::string::npos && used != part.size())) throw std::invalid_argument(part);
-      for (long s = lo; s <= hi; ++s) seeds.push_back(s);
-    } catch (const std::logic_error&) {
-      throw dem::InputError("--seeds = " + text + ": must be " + allowed);
-    }
+    const std::size_t dash = part.find('-');
+    const std::optional<long> lo = whole_number(part.substr(0, dash));
+    const std::optional<long> hi = dash == std::string::npos ? lo : whole_number(part.substr(dash + 1));
+    if (!lo || !hi || *hi < *lo || *hi - *lo >= most_seeds - static_cast<long>(seeds.size())) throw refuse();
+    for (long s = *lo; s <= *hi; ++s) seeds.push_back(s);
   }
-  if (seeds.empty() || std::set<long>(seeds.begin(), seeds.end()).size() != seeds.size())
-    throw dem::InputError("--seeds = " + text + ": must be " + allowed);
+  if (seeds.empty() || text.back() == ',' || std::set<long>(seeds.begin(), seeds.end()).size() != seeds.size()) throw refuse();
   return seeds;
+}
+
+// The options dem-ensemble sets for each seed, in any of their spellings.
+bool set_by_ensemble(const std::string& arg) {
+  for (const char* option : {"--out", "--from", "--replace"})
+    if (arg.rfind(option, 0) == 0) return true;
+  return (arg.rfind("-o", 0) == 0 && arg.rfind("--", 0) != 0) || arg.find("specimen.seed") != std::string::npos;
+}
+
+// A seed's dem-simple-shear command line.
+std::vector<std::string> seed_arguments(const EnsembleCommandLine& cli, long seed, const fs::path& folder, bool resume) {
+  std::vector<std::string> args = {"dem-simple-shear"};
+  args.insert(args.end(), cli.shear_args.begin(), cli.shear_args.end());
+  for (const std::string& more : {std::string("--set"), "specimen.seed=" + std::to_string(seed), std::string("--out"), folder.string()})
+    args.push_back(more);
+  if (resume) args.insert(args.end(), {"--from", (folder / "restart.restart").string()});
+  else args.emplace_back("--replace");  // a seed killed before its first restart file starts again
+  return args;
+}
+
+std::optional<dem::cli::ShearCommandLine> parse_seed(std::vector<std::string> args, std::ostream& out) {
+  std::vector<char*> argv;
+  for (std::string& arg : args) argv.push_back(arg.data());
+  return dem::cli::parse_shear_command_line(static_cast<int>(argv.size()), argv.data(), "dem-simple-shear", "simple shear", out);
 }
 
 // nullopt: --help was printed.
@@ -79,24 +109,26 @@ std::optional<EnsembleCommandLine> parse(int argc, char** argv) {
     else if (arg == "--out" || arg == "-o") cli.out = value(arg);
     else if (arg == "--jobs") {
       const std::string jobs = value(arg);
-      try {
-        cli.jobs = std::stoi(jobs);
-      } catch (const std::logic_error&) {
-        cli.jobs = 0;
-      }
-      dem::require(cli.jobs >= 1, "--jobs", jobs, "an integer >= 1");
+      const std::optional<long> n = whole_number(jobs);
+      dem::require(n && *n >= 1 && *n <= 4096, "--jobs", jobs, "an integer from 1 to 4096");
+      cli.jobs = static_cast<int>(*n);
     } else {
       throw dem::InputError("option " + arg + ": not one of --seeds, --out, --jobs, --help (dem-simple-shear options go after --)");
     }
   }
   for (++a; a < argc; ++a) {
     const std::string arg = argv[a];
-    if (arg == "--out" || arg == "-o" || arg == "--from" || arg.find("specimen.seed") != std::string::npos)
-      throw dem::InputError("dem-simple-shear option " + arg + ": set by dem-ensemble (each seed has its own specimen and folder)");
+    if (set_by_ensemble(arg))
+      throw dem::InputError("dem-simple-shear option " + arg + ": set by dem-ensemble (--out, --from, --replace and "
+                            "specimen.seed: each seed has its own specimen and folder)");
     cli.shear_args.push_back(arg);
   }
   dem::require(!cli.seeds.empty(), "--seeds", "(missing)", "the seeds to run, e.g. 1-3");
   dem::require(!cli.out.empty(), "--out", "(missing)", "the ensemble folder");
+  // The seeds' options are checked once here, so that a mistake ends the run before any seed.
+  std::ostringstream printed;
+  if (!parse_seed(seed_arguments(cli, cli.seeds.front(), cli.out / "seed_check", false), printed))
+    throw dem::InputError("dem-simple-shear options that print text and run nothing (--help, --print-config): not for an ensemble");
   return cli;
 }
 
@@ -104,26 +136,15 @@ std::optional<EnsembleCommandLine> parse(int argc, char** argv) {
 std::string run_seed(const EnsembleCommandLine& cli, long seed, int rank) {
   const fs::path folder = cli.out / ("seed_" + std::to_string(seed));
   if (fs::exists(folder / "summary.json")) return "done already (" + folder.string() + ")";
-  const fs::path restart = folder / "restart.restart";
-  const bool resume = fs::exists(restart);
-  std::vector<std::string> args = {"dem-simple-shear"};
-  args.insert(args.end(), cli.shear_args.begin(), cli.shear_args.end());
-  for (const std::string& more : {std::string("--set"), "specimen.seed=" + std::to_string(seed), std::string("--out"), folder.string()})
-    args.push_back(more);
-  if (resume) args.insert(args.end(), {"--from", restart.string()});
-  else args.emplace_back("--replace");  // a seed killed before its first restart file starts again
-  std::vector<char*> argv;
-  for (std::string& arg : args) argv.push_back(arg.data());
+  const bool resume = fs::exists(folder / "restart.restart");
   fs::create_directories(folder);
   std::ofstream log(folder / "run.log", resume ? std::ios::app : std::ios::trunc);
   std::cout << ("seed " + std::to_string(seed) + ": running on rank " + std::to_string(rank) + ", log in " +
                 (folder / "run.log").string() + "\n")
             << std::flush;
   try {
-    std::ostringstream help;
-    const auto shear = dem::cli::parse_shear_command_line(static_cast<int>(argv.size()), argv.data(), "dem-simple-shear",
-                                                          "simple shear", help);
-    if (!shear) throw dem::InputError("dem-simple-shear options print text and run nothing (--help, --print-config)");
+    std::ostringstream printed;
+    const auto shear = parse_seed(seed_arguments(cli, seed, folder, resume), printed);
     dem::cli::run_simple_shear(*shear, log, "dem-ensemble");
     return "done";
   } catch (const std::exception& e) {
@@ -149,8 +170,10 @@ int main(int argc, char** argv) {
     return 1;
   }
   try {
-    if (farm->leads()) fs::create_directories(cli->out);
-    farm->barrier();
+    farm->on_leader([&] {
+      fs::create_directories(cli->out);
+      return std::string();
+    });
     int failed = 0;
     farm->run(
         cli->seeds.size(), cli->jobs, [&](std::size_t k) { return run_seed(*cli, cli->seeds[k], farm->process()); },

@@ -27,6 +27,21 @@ execute_process(COMMAND ${work}/build/consumer RESULT_VARIABLE rc OUTPUT_VARIABL
 if(rc OR NOT out MATCHES "kinetic")
   message(FATAL_ERROR "the consumer did not run (${rc}): ${out}")
 endif()
+# A consumer of libdem::mpi, where libdem was built with it (run as one process: a link check).
+file(GLOB mpi_export ${work}/prefix/lib*/cmake/libdem/libdemMpiTargets.cmake)
+if(mpi_export)
+  execute_process(COMMAND ${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/consumer -B ${work}/build-mpi -DCMAKE_BUILD_TYPE=Release
+                          -DCMAKE_PREFIX_PATH=${work}/prefix -DLIBDEM_CONSUMER_MPI=ON RESULT_VARIABLE rc)
+  if(NOT rc)
+    execute_process(COMMAND ${CMAKE_COMMAND} --build ${work}/build-mpi RESULT_VARIABLE rc)
+  endif()
+  if(NOT rc)
+    execute_process(COMMAND ${work}/build-mpi/consumer_mpi RESULT_VARIABLE rc OUTPUT_VARIABLE out)
+  endif()
+  if(rc OR NOT out MATCHES "farm of 1: sum of squares 285")
+    message(FATAL_ERROR "the libdem::mpi consumer did not configure, build or run (${rc}): ${out}")
+  endif()
+endif()
 if(PYTHON)
   execute_process(COMMAND ${CMAKE_COMMAND} -E env PYTHONPATH=${work}/prefix/${PYTHON_DIR}
                           ${PYTHON} -c "import libdem; w = libdem.World(); w.add_ball([0, 0, 0], 1e-3, 2650.0); print('python', w.size, libdem.__file__)"

@@ -3,7 +3,7 @@
 # (libdem::mpi, from Debian's libopenmpi-dev) and mpirun; about a minute on two cores.
 if(TARGET dem_mpi AND TARGET dem-calibrate AND TARGET dem-ensemble AND TARGET dem-simple-shear)
   set(LIBDEM_TEST_PYTHON /usr/bin/python3 CACHE FILEPATH "Python 3 for the app tests (standard library only)")
-  find_program(LIBDEM_MPIRUN NAMES mpirun mpiexec HINTS ${MPIEXEC_EXECUTABLE})
+  find_program(LIBDEM_MPIRUN NAMES mpirun.openmpi mpirun)  # OpenMPI's: the test uses --oversubscribe
   if(LIBDEM_MPIRUN)
     add_test(NAME mpi_task_farms
              COMMAND ${LIBDEM_TEST_PYTHON} ${PROJECT_SOURCE_DIR}/tests/integration/check_mpi_farms.py

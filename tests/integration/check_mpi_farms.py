@@ -9,8 +9,8 @@ Checked, on the reduced specimen (30 mm x 12 mm, 4D balls) and a lab curve writt
 - a calibration stopped after three of its six trials (its trials.csv cut there and a half-written
   trial folder left, as a kill leaves them) and resumed on another rank count ends with the same
   trials.csv, reusing the three.
-- an error only the leading rank meets (an --out of another set-up) ends every rank with exit code
-  2 and a message that names the rank.
+- an --out of another set-up, which the leading rank finds, and an input error that every rank
+  finds end every rank with exit code 2 and one message, without MPI_Abort.
 - dem-ensemble under mpirun -n 2 and 3: every seed's history.csv equals the one-process run byte
   for byte, and the seeds are shared out over the ranks.
 - dem-simple-shear, which runs one simulation, refuses two ranks (exit code 2, saying why) instead
@@ -111,10 +111,16 @@ with tempfile.TemporaryDirectory() as tmp:
           "a calibration cut after three trials resumes on another rank count")
     check(result.returncode == 0 and trials(resumed) == reference, "the resumed calibration ends with the same trials.csv")
 
-    # An error on the leading rank alone ends every rank.
+    # The leading rank checks the folder and hands its verdict to every rank: all end alike.
     refused = run([calibrate, "--lab", str(lab), "--out", str(serial), *calibration, "--set", "calibration.eps_stress=2000"], 2)
-    check(refused.returncode == 2 and "rank 0 of 2" in refused.stderr and "another calibration set-up" in refused.stderr,
-          f"an --out of another set-up is refused on 2 ranks with exit code 2, naming the rank (exit {refused.returncode})")
+    check(refused.returncode == 2 and refused.stderr.count("another calibration set-up") == 1 and "MPI_ABORT" not in refused.stderr,
+          f"an --out of another set-up is refused on 2 ranks: exit code 2, said once, no abort (exit {refused.returncode})")
+
+    # An input every rank checks alike: the same error, once, on every rank.
+    alike = run([calibrate, "--lab", str(lab), "--out", str(tmp / "alike"), *calibration,
+                 "--set", "calibration.rolling_target=dilatancy"], 2)
+    check(alike.returncode == 2 and alike.stderr.count("has no volumetric strain column") == 1 and "MPI_ABORT" not in alike.stderr,
+          f"an input error every rank meets: exit code 2, said once, no abort (exit {alike.returncode})")
 
     shear = [*specimen, "--set", "shear.target_strain=0.01"]
     one = tmp / "ensemble1"

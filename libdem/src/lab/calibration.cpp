@@ -83,6 +83,8 @@ const TrialColumn trial_columns[] = {
 #undef DEM_TRIAL_COLUMN
 
 // A trial's columns as the bytes of their doubles, to carry it between processes bit for bit.
+constexpr std::size_t trial_byte_count = std::size(trial_columns) * sizeof(double);
+
 std::string trial_bytes(const TrialResult& t) {
   std::string bytes;
   for (const TrialColumn& c : trial_columns) {
@@ -93,9 +95,9 @@ std::string trial_bytes(const TrialResult& t) {
 }
 
 TrialResult trial_from_bytes(const std::string& bytes) {
-  if (bytes.size() != std::size(trial_columns) * sizeof(double))
+  if (bytes.size() != trial_byte_count)
     throw std::runtime_error("a trial's result arrived with " + std::to_string(bytes.size()) + " bytes, not " +
-                             std::to_string(std::size(trial_columns) * sizeof(double)));
+                             std::to_string(trial_byte_count));
   TrialResult t;
   for (std::size_t k = 0; k < std::size(trial_columns); ++k) {
     double v = 0;
@@ -103,6 +105,33 @@ TrialResult trial_from_bytes(const std::string& bytes) {
     trial_columns[k].set(t, v);
   }
   return t;
+}
+
+// A model curve as its size and the bytes of its three columns (the volumetric one may be empty).
+std::string curve_bytes(const ModelCurve& c) {
+  std::string bytes;
+  for (const std::vector<double>* column : {&c.shear_strain, &c.shear_stress, &c.volumetric_strain}) {
+    const std::uint64_t n = column->size();
+    bytes.append(reinterpret_cast<const char*>(&n), sizeof n);
+    bytes.append(reinterpret_cast<const char*>(column->data()), n * sizeof(double));
+  }
+  return bytes;
+}
+
+ModelCurve curve_from_bytes(const std::string& bytes) {
+  ModelCurve c;
+  std::size_t at = 0;
+  for (std::vector<double>* column : {&c.shear_strain, &c.shear_stress, &c.volumetric_strain}) {
+    std::uint64_t n = 0;
+    if (at + sizeof n > bytes.size()) throw std::runtime_error("a model curve arrived cut short");
+    std::memcpy(&n, bytes.data() + at, sizeof n);
+    at += sizeof n;
+    if (n > (bytes.size() - at) / sizeof(double)) throw std::runtime_error("a model curve arrived cut short");
+    column->resize(n);
+    std::memcpy(column->data(), bytes.data() + at, n * sizeof(double));
+    at += n * sizeof(double);
+  }
+  return c;
 }
 
 const char* const stage_names[] = {"outside the searches", "1 (E*, initial slope)", "2 (mu, peak)", "3 (mu_r, peak or dilatancy)",
@@ -128,49 +157,60 @@ Calibration::Calibration(io::Config config, CalibrationSettings settings, LabCur
     : config_(std::move(config)), settings_(settings), lab_(std::move(lab)), out_dir_(std::move(out_dir)), log_(log),
       own_farm_(farm ? nullptr : std::make_unique<parallel::LocalFarm>()), farm_(farm ? farm : own_farm_.get()),
       progress_(std::make_unique<Progress>()) {
-  require(settings_.threads >= 1, "--threads", settings_.threads, ">= 1");
-  require(settings_.parallel_trials >= 1, "--parallel-trials", settings_.parallel_trials, ">= 1");
-  start_ = {config_.real("ball_ball.effective_modulus"), config_.real("ball_ball.friction"), config_.real("ball_ball.rolling_friction")};
-  auto within = [](const std::string& key, double v, double lo, double hi, const std::string& bounds) {
-    require(v >= lo && v <= hi, key, v, "within [" + detail::exact_text(lo) + ", " + detail::exact_text(hi) + "] (" + bounds + ")");
-  };
-  within("ball_ball.effective_modulus", start_.effective_modulus, settings_.modulus_min, settings_.modulus_max, "calibration.effective_modulus_min/max");
-  within("ball_ball.friction", start_.friction, settings_.friction_min, settings_.friction_max, "calibration.friction_min/max");
-  within("ball_ball.rolling_friction", start_.rolling_friction, settings_.rolling_min, settings_.rolling_max, "calibration.rolling_friction_min/max");
+  // Checks of the input, on every process (they read the same): an error ends all of them alike.
+  SimpleShearConfig shear;
+  farm_->together([&] {
+    require(settings_.threads >= 1, "--threads", settings_.threads, ">= 1");
+    require(settings_.parallel_trials >= 1, "--parallel-trials", settings_.parallel_trials, ">= 1");
+    start_ = {config_.real("ball_ball.effective_modulus"), config_.real("ball_ball.friction"), config_.real("ball_ball.rolling_friction")};
+    auto within = [](const std::string& key, double v, double lo, double hi, const std::string& bounds) {
+      require(v >= lo && v <= hi, key, v, "within [" + detail::exact_text(lo) + ", " + detail::exact_text(hi) + "] (" + bounds + ")");
+    };
+    within("ball_ball.effective_modulus", start_.effective_modulus, settings_.modulus_min, settings_.modulus_max, "calibration.effective_modulus_min/max");
+    within("ball_ball.friction", start_.friction, settings_.friction_min, settings_.friction_max, "calibration.friction_min/max");
+    within("ball_ball.rolling_friction", start_.rolling_friction, settings_.rolling_min, settings_.rolling_max, "calibration.rolling_friction_min/max");
 
-  // The lab curve must be usable by every stage before any simulation starts.
-  require(lab_.size() >= 2, "lab curve " + lab_.file.string() + " points", lab_.size(), ">= 2");
-  require(std::any_of(lab_.shear_stress.begin(), lab_.shear_stress.end(), [&](double t) { return std::abs(t) >= settings_.comparison.eps_stress && t != 0; }),
-          "lab curve " + lab_.file.string() + " largest |shear stress| (Pa)", peak_value(lab_.shear_stress), ">= eps_stress = " + detail::exact_text(settings_.comparison.eps_stress));
-  slope_limit_ = slope_strain_limit(lab_, settings_.slope_stress_fraction);
-  lab_slope_ = initial_slope(lab_, lab_.shear_stress, slope_limit_);
-  lab_peak_ = peak_value(lab_.shear_stress);
-  require(lab_slope_ > 0, "lab curve " + lab_.file.string() + " initial slope (Pa)", lab_slope_, "> 0");
-  using Target = CalibrationSettings::RollingTarget;
-  if (settings_.rolling_target != Target::Peak && lab_.has_volumetric()) {
-    lab_dilatancy_ = late_mean(lab_, lab_.volumetric_strain, settings_.dilatancy_from * lab_.max_strain());
-    rolling_by_dilatancy_ = std::abs(lab_dilatancy_) >= std::max(settings_.comparison.eps_strain, 1e-12);
-  }
-  if (settings_.rolling_target == Target::Dilatancy && !rolling_by_dilatancy_)
-    throw InputError("calibration.rolling_target = dilatancy: the lab curve " + lab_.file.string() +
-                     (lab_.has_volumetric() ? " has a late dilatancy of " + detail::exact_text(lab_dilatancy_) + ", below eps_strain = " +
-                                                  detail::exact_text(settings_.comparison.eps_strain)
-                                            : " has no volumetric strain column") +
-                     "; allowed: peak, or auto (dilatancy when the lab curve has it)");
-  SimpleShearConfig shear = simple_shear_config(config_);
-  target_strain_ = lab_.max_strain() * 1.001;  // the last lab point lies inside the model curve
-  // History rows of a trial: at least 50 over the lab's strain range.
-  shear.output.every_strain = std::min(shear.output.every_strain, lab_.max_strain() / 50.0);
+    // The lab curve must be usable by every stage before any simulation starts.
+    require(lab_.size() >= 2, "lab curve " + lab_.file.string() + " points", lab_.size(), ">= 2");
+    require(std::any_of(lab_.shear_stress.begin(), lab_.shear_stress.end(), [&](double t) { return std::abs(t) >= settings_.comparison.eps_stress && t != 0; }),
+            "lab curve " + lab_.file.string() + " largest |shear stress| (Pa)", peak_value(lab_.shear_stress), ">= eps_stress = " + detail::exact_text(settings_.comparison.eps_stress));
+    slope_limit_ = slope_strain_limit(lab_, settings_.slope_stress_fraction);
+    lab_slope_ = initial_slope(lab_, lab_.shear_stress, slope_limit_);
+    lab_peak_ = peak_value(lab_.shear_stress);
+    require(lab_slope_ > 0, "lab curve " + lab_.file.string() + " initial slope (Pa)", lab_slope_, "> 0");
+    using Target = CalibrationSettings::RollingTarget;
+    if (settings_.rolling_target != Target::Peak && lab_.has_volumetric()) {
+      lab_dilatancy_ = late_mean(lab_, lab_.volumetric_strain, settings_.dilatancy_from * lab_.max_strain());
+      rolling_by_dilatancy_ = std::abs(lab_dilatancy_) >= std::max(settings_.comparison.eps_strain, 1e-12);
+    }
+    if (settings_.rolling_target == Target::Dilatancy && !rolling_by_dilatancy_)
+      throw InputError("calibration.rolling_target = dilatancy: the lab curve " + lab_.file.string() +
+                       (lab_.has_volumetric() ? " has a late dilatancy of " + detail::exact_text(lab_dilatancy_) + ", below eps_strain = " +
+                                                    detail::exact_text(settings_.comparison.eps_strain)
+                                              : " has no volumetric strain column") +
+                       "; allowed: peak, or auto (dilatancy when the lab curve has it)");
+    shear = simple_shear_config(config_);
+    target_strain_ = lab_.max_strain() * 1.001;  // the last lab point lies inside the model curve
+    // History rows of a trial: at least 50 over the lab's strain range.
+    shear.output.every_strain = std::min(shear.output.every_strain, lab_.max_strain() / 50.0);
+  });
 
   // Locked against a second calibration into the same folder; its own results are resumed below.
-  // The leading process claims the folder and checks the set-up; the others read the trials after it.
+  // The leading process claims the folder, checks the set-up and reads the finished trials, which
+  // every process then gets from it (its error too, so that all end alike).
   const std::string setup = setup_text() + "from " + (from.empty() ? std::string("none") : file_hash(from)) + "\n";
-  if (farm_->leads()) claim_folder(setup);
-  farm_->barrier();
-  if (fs::exists(out_dir_ / "trials.csv")) {
-    load_trials();
+  const std::string finished = farm_->on_leader([&] {
+    claim_folder(setup);
+    std::string bytes = fs::exists(out_dir_ / "trials.csv") ? "R" : "-";
+    if (bytes == "R") load_trials();
+    for (const TrialResult& t : trials_) bytes += trial_bytes(t);
+    return bytes;
+  });
+  if (!farm_->leads())
+    for (std::size_t at = 1; at < finished.size(); at += trial_byte_count)
+      trials_.push_back(trial_from_bytes(finished.substr(at, trial_byte_count)));
+  if (finished.front() == 'R')
     log_ << "resuming: " << trials_.size() << " finished trial(s) in " << (out_dir_ / "trials.csv").string() << "\n";
-  }
   shears_ = std::make_unique<ShearTrials>(std::move(shear), out_dir_, from, settings_.fit_modulus, log_, settings_.modulus_specimen, farm_);
 }
 
@@ -367,19 +407,17 @@ std::vector<TrialResult> Calibration::evaluate(const std::vector<ContactFit>& ba
 }
 
 CurveComparison Calibration::comparison(const TrialResult& trial) {
-  std::optional<ModelCurve> model = shears_->stored_curve(trial.trial);
-  if (!model) {  // sheared again by one process, then read by all from its folder
+  // The trial's stored history, or the trial again (both by one process, the curve then to all).
+  std::string curve = farm_->on_leader([&] {
+    const std::optional<ModelCurve> stored = shears_->stored_curve(trial.trial);
+    return stored ? curve_bytes(*stored) : std::string();
+  });
+  if (curve.empty()) {
     const int threads = std::max(1, settings_.threads);
     shears_->prepare({trial.fit.effective_modulus}, 1, threads);
-    farm_->on_leader([&] {
-      shears_->shear(trial.fit, target_strain_, trial.trial, threads);
-      return std::string();
-    });
-    model = shears_->stored_curve(trial.trial);
-    require(model.has_value(), "history of trial " + std::to_string(trial.trial), "(missing)",
-            "written by its shear in the output folder, which every process must see");
+    curve = farm_->on_leader([&] { return curve_bytes(shears_->shear(trial.fit, target_strain_, trial.trial, threads)); });
   }
-  return compare_curves(lab_, *model, settings_.comparison);
+  return compare_curves(lab_, curve_from_bytes(curve), settings_.comparison);
 }
 
 CalibrationResult Calibration::run() {

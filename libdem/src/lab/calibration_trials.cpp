@@ -127,11 +127,22 @@ std::vector<double> ShearTrials::prepare(const std::vector<double>& moduli, int 
       require(m == start_modulus, "trial E*", m, "the E* of the --from specimen, " + detail::exact_text(start_modulus));
     return seconds;
   }
+  // What is missing is seen by the leading process and handed to the others, so that all take
+  // the same steps even if a file system's caches show them an older folder.
+  const bool from_reference = rule_ == ModulusSpecimen::Reconsolidated;
+  std::istringstream plan(farm_->on_leader([&] {
+    std::ostringstream missing;
+    missing << (from_reference && !fs::exists(specimen_restart(start_modulus)));  // the starting E*'s specimen
+    for (std::size_t i = 0; i < moduli.size(); ++i) {
+      const bool first = std::find(moduli.begin(), moduli.begin() + static_cast<std::ptrdiff_t>(i), moduli[i]) == moduli.begin() + static_cast<std::ptrdiff_t>(i);
+      if (first && !fs::exists(specimen_restart(moduli[i]))) missing << ' ' << i;
+    }
+    return missing.str();
+  }));
+  bool reference_missing = false;
+  plan >> reference_missing;
   std::vector<std::size_t> todo;
-  for (std::size_t i = 0; i < moduli.size(); ++i) {
-    const bool first = std::find(moduli.begin(), moduli.begin() + static_cast<std::ptrdiff_t>(i), moduli[i]) == moduli.begin() + static_cast<std::ptrdiff_t>(i);
-    if (first && !fs::exists(specimen_restart(moduli[i]))) todo.push_back(i);
-  }
+  for (std::size_t i = 0; plan >> i;) todo.push_back(i);
   if (todo.empty()) return seconds;
 
   // Reconsolidated specimens start from the one of the starting E*: make that first. Each specimen
@@ -141,9 +152,8 @@ std::vector<double> ShearTrials::prepare(const std::vector<double>& moduli, int 
     make();
     return detail::exact_text(seconds_since(t0));
   };
-  const bool from_reference = rule_ == ModulusSpecimen::Reconsolidated;
   double reference_seconds = 0.0;
-  if (from_reference && !fs::exists(specimen_restart(start_modulus)))
+  if (reference_missing)
     reference_seconds = std::stod(farm_->on_leader([&] {
       return timed([&] {
         generate_once(parallel * threads);

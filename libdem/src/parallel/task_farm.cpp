@@ -42,10 +42,12 @@ void run_on_threads(std::size_t n, int workers, const std::function<void(std::si
 }
 
 int launched_ranks() {
-  for (const char* size : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"})  // OpenMPI; MPICH, Intel MPI and srun
+  for (const char* size : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"})  // OpenMPI; MPICH, Intel MPI, srun with PMI
     if (const char* value = std::getenv(size)) return std::max(1, std::atoi(value));
   for (const char* rank : {"PMIX_RANK", "PMI_RANK"})
     if (std::getenv(rank) != nullptr) return -1;
+  // srun's tasks, when it sets no PMI variable (a batch script's own step counts one task).
+  if (const char* tasks = std::getenv("SLURM_STEP_NUM_TASKS"); tasks != nullptr && std::atoi(tasks) > 1) return std::atoi(tasks);
   return 0;
 }
 
@@ -55,8 +57,20 @@ std::string TaskFarm::on_leader(const std::function<std::string()>& job) {
   return result;
 }
 
+void TaskFarm::together(const std::function<void()>& step) {
+  // One task per process: task i runs on process i.
+  run(
+      static_cast<std::size_t>(processes()), 1,
+      [&](std::size_t) {
+        step();
+        return std::string();
+      },
+      [](std::size_t, const std::string&) {});
+}
+
 void LocalFarm::run(std::size_t n, int workers, const TaskJob& job, const TaskDone& done) {
   std::mutex handing_over;
+  failed_together_ = false;
   try {
     run_on_threads(n, workers, [&](std::size_t i) {
       const std::string result = job(i);

@@ -36,14 +36,19 @@ class TaskFarm {
   /// for every task, one call at a time: with one process as each task finishes, with several in
   /// task order once all have finished. A task that throws does not stop the others; once all
   /// have run, every process throws the error of the lowest failed task, after the done calls of
-  /// those that succeeded (an InputError stays one, any other error is a std::runtime_error with
-  /// its message). Returns when every task has finished, on every process.
+  /// those that succeeded (with one process the task's own exception; across processes an
+  /// InputError stays one and any other error becomes a std::runtime_error with its message). An
+  /// error thrown by done() itself ends run() on the process that threw it. Returns when every
+  /// task has finished, on every process.
   virtual void run(std::size_t n, int workers, const TaskJob& job, const TaskDone& done) = 0;
   /// Runs job on the leading process only and hands its result to every process.
   std::string on_leader(const std::function<std::string()>& job);
+  /// Runs `step` on every process (e.g. checks of the input, which all of them read); if it throws
+  /// on any, every process throws the error of the lowest such process, as run() does.
+  void together(const std::function<void()>& step);
   /// Waits until every process has got here.
   virtual void barrier() = 0;
-  /// True once run() has thrown a task's error: every process holds the same error, so the
+  /// True when the last run() threw a task's error: every process holds the same error, so the
   /// program can end on each without one of them telling the others.
   bool failed_together() const { return failed_together_; }
 

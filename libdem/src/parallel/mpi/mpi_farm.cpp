@@ -34,6 +34,7 @@ MpiFarm::MpiFarm(int& argc, char**& argv) {
 MpiFarm::~MpiFarm() { MPI_Finalize(); }
 
 void MpiFarm::run(std::size_t n, int workers, const TaskJob& job, const TaskDone& done) {
+  failed_together_ = false;
   std::vector<std::size_t> mine;
   for (std::size_t i = static_cast<std::size_t>(rank_); i < n; i += static_cast<std::size_t>(ranks_)) mine.push_back(i);
   std::vector<std::string> results(n);
