@@ -323,7 +323,7 @@ class Calibration {
   void claim_folder(const std::string& setup);  // lock, set-up check, setup.txt (leading process)
   void save_trials() const;
   void load_trials();
-  void write_outputs(const CalibrationResult& result);
+  void write_outputs(const CalibrationResult& result, int max_trials);  // calibration_outputs.cpp
   std::string setup_text() const;
 
   io::Config config_;
