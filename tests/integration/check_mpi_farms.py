@@ -13,6 +13,7 @@ Checked, on the reduced specimen (30 mm x 12 mm, 4D balls) and a lab curve writt
   finds end every rank with exit code 2 and one message, without MPI_Abort.
 - dem-ensemble under mpirun -n 2 and 3: every seed's history.csv equals the one-process run byte
   for byte, and the seeds are shared out over the ranks.
+- scripts/ensemble --mpi 2 writes the same ensemble.csv as --jobs 1.
 - dem-simple-shear, which runs one simulation, refuses two ranks (exit code 2, saying why) instead
   of running twice into one folder.
 
@@ -135,6 +136,18 @@ with tempfile.TemporaryDirectory() as tmp:
         starts = [line for line in result.stdout.splitlines() if ": running on rank " in line]
         check(len(starts) == 3 and all(any(line.endswith(f"rank {r}") or f"rank {r}," in line for line in starts) for r in range(ranks)),
               f"{ranks} ranks: each seed ran once, and every rank ran one ({len(starts)} starts)")
+
+    # scripts/ensemble --mpi 2: the same statistics as from one process.
+    script = Path(__file__).resolve().parents[2] / "scripts" / "ensemble"
+    launcher = dict(env, LIBDEM_MPIRUN=f"{mpirun} --oversubscribe --bind-to none")
+    tables = []
+    for name, how in (("script1", ["--jobs", "1"]), ("script2", ["--mpi", "2"])):
+        result = subprocess.run([sys.executable, str(script), "--seeds", "1-2", *how, "--out", str(tmp / name), "--app", ensemble,
+                                 "--", *shear], capture_output=True, text=True, env=launcher)
+        if result.returncode != 0:
+            print(result.stdout[-3000:], result.stderr[-3000:])
+        tables.append((tmp / name / "ensemble.csv").read_bytes() if (tmp / name / "ensemble.csv").is_file() else None)
+    check(tables[0] is not None and tables[0] == tables[1], "scripts/ensemble --mpi 2 writes the ensemble.csv of --jobs 1, byte for byte")
 
     single = run([simple_shear, "--out", str(tmp / "single"), *shear], 2)
     check(single.returncode == 2 and "runs one simulation in one process" in single.stderr and not (tmp / "single").exists(),
