@@ -8,7 +8,8 @@ Checked, on the reduced specimen (30 mm x 12 mm, 4D balls) and a lab curve writt
   the rank count; the progress names the rank of each trial.
 - a calibration stopped after three of its six trials (its trials.csv cut there and a half-written
   trial folder left, as a kill leaves them) and resumed on another rank count ends with the same
-  trials.csv, reusing the three.
+  trials.csv, reusing the three; trials whose folders hold their result but trials.csv does not
+  are reused as well.
 - an --out of another set-up, which the leading rank finds, and an input error that every rank
   finds end every rank with exit code 2 and one message, without MPI_Abort.
 - dem-ensemble under mpirun -n 2 and 3: every seed's history.csv equals the one-process run byte
@@ -111,6 +112,17 @@ with tempfile.TemporaryDirectory() as tmp:
     check(result.returncode == 0 and "resuming: 3 finished trial(s)" in result.stdout,
           "a calibration cut after three trials resumes on another rank count")
     check(result.returncode == 0 and trials(resumed) == reference, "the resumed calibration ends with the same trials.csv")
+
+    # Stopped after three trials were written to trials.csv, with three more finished in their
+    # folders (a kill before the round's end on several ranks): those are taken, not run again.
+    kept = tmp / "kept"
+    shutil.copytree(tmp / "ranks3", kept)
+    with open(kept / "trials.csv") as f:
+        lines = f.readlines()
+    (kept / "trials.csv").write_text("".join(lines[:4]))
+    result = run([calibrate, "--lab", str(lab), "--out", str(kept), *calibration], 3)
+    check(result.returncode == 0 and "6 trials (0 new, 6 reused)" in result.stdout and trials(kept) == reference,
+          "trials finished in their folders but missing from trials.csv are reused, not run again")
 
     # The leading rank checks the folder and hands its verdict to every rank: all end alike.
     refused = run([calibrate, "--lab", str(lab), "--out", str(serial), *calibration, "--set", "calibration.eps_stress=2000"], 2)

@@ -255,13 +255,16 @@ TEST_CASE("calibration: E* and mu are recovered from a curve made with known val
   const auto summary = dem::testing::load_json(out / "summary.json");
   CHECK(summary.at("best").at("friction").get<double>() == first.best.friction);
 
-  // A calibration killed after some trials: its trials.csv holds only the first ones. The
-  // search asks for the same parameters again, reuses those and runs the rest. The columns are
-  // read by name: here in reverse order, as a spreadsheet may have saved them.
+  // A calibration killed after some trials: its trials.csv holds only the first ones, and the
+  // later trials never ran (no folder). The search asks for the same parameters again, reuses
+  // those and runs the rest. The columns are read by name: here in reverse order, as a
+  // spreadsheet may have saved them.
   const std::size_t kept = trials.rows.size() / 2;
   io::CsvTable partial(std::vector<std::string>(trials.columns.rbegin(), trials.columns.rend()));
   for (std::size_t r = 0; r < kept; ++r) partial.add_row(std::vector<double>(trials.rows[r].rbegin(), trials.rows[r].rend()));
   partial.save(out / "trials.csv");
+  for (const auto& folder : fs::directory_iterator(out / "trials"))
+    if (std::stoul(folder.path().filename().string()) > kept) fs::remove_all(folder.path());
   std::ostringstream log2;
   {
     Calibration resumed(start, settings, read_lab_curve(lab_file), out, {}, log2);

@@ -106,6 +106,34 @@ TrialResult trial_from_bytes(const std::string& bytes) {
   return t;
 }
 
+// Rows of trials.csv (or of a trial folder's result.csv), each column found by its name.
+std::vector<TrialResult> read_trial_rows(const fs::path& file) {
+  const io::CsvData data = io::read_csv(file);
+  std::vector<std::size_t> index;
+  for (const TrialColumn& c : trial_columns) index.push_back(data.column(c.name));  // InputError names a missing one
+  require(data.columns.size() == index.size(), file.string() + " columns", data.columns.size(),
+          std::to_string(index.size()) + ", the columns dem-calibrate writes (no others)");
+  std::vector<TrialResult> rows;
+  for (const auto& row : data.rows) {
+    TrialResult t;
+    for (std::size_t k = 0; k < index.size(); ++k) trial_columns[k].set(t, row[index[k]]);
+    rows.push_back(t);
+  }
+  return rows;
+}
+
+void write_trial_rows(const fs::path& file, const std::vector<TrialResult>& rows) {
+  std::vector<std::string> names;
+  for (const TrialColumn& c : trial_columns) names.push_back(c.name);
+  io::CsvTable table(names);
+  for (const TrialResult& t : rows) {
+    std::vector<double> row;
+    for (const TrialColumn& c : trial_columns) row.push_back(c.get(t));
+    table.add_row(row);
+  }
+  table.save(file);
+}
+
 const char* const stage_names[] = {"outside the searches", "1 (E*, initial slope)", "2 (mu, peak)", "3 (mu_r, peak or dilatancy)",
                                    "4 (mu and mu_r, whole curve)"};
 
@@ -239,31 +267,11 @@ std::string Calibration::setup_text() const {
 }
 
 void Calibration::load_trials() {
-  const fs::path file = out_dir_ / "trials.csv";
-  const io::CsvData data = io::read_csv(file);
-  std::vector<std::size_t> index;
-  for (const TrialColumn& c : trial_columns) index.push_back(data.column(c.name));  // InputError names a missing one
-  require(data.columns.size() == index.size(), file.string() + " columns", data.columns.size(),
-          std::to_string(index.size()) + ", the columns dem-calibrate writes (no others)");
-  for (const auto& row : data.rows) {
-    TrialResult t;
-    for (std::size_t k = 0; k < index.size(); ++k) trial_columns[k].set(t, row[index[k]]);
-    trials_.push_back(t);
-  }
+  trials_ = read_trial_rows(out_dir_ / "trials.csv");
   std::sort(trials_.begin(), trials_.end(), [](const TrialResult& a, const TrialResult& b) { return a.trial < b.trial; });
 }
 
-void Calibration::save_trials() const {
-  std::vector<std::string> names;
-  for (const TrialColumn& c : trial_columns) names.push_back(c.name);
-  io::CsvTable table(names);
-  for (const TrialResult& t : trials_) {
-    std::vector<double> row;
-    for (const TrialColumn& c : trial_columns) row.push_back(c.get(t));
-    table.add_row(row);
-  }
-  table.save(out_dir_ / "trials.csv");
-}
+void Calibration::save_trials() const { write_trial_rows(out_dir_ / "trials.csv", trials_); }
 
 TrialResult Calibration::measure(const ContactFit& fit, const ModelCurve& model, int number, int stage, double seconds) const {
   const CurveComparison c = compare_curves(lab_, model, settings_.comparison);
@@ -314,11 +322,6 @@ std::vector<TrialResult> Calibration::evaluate(const std::vector<ContactFit>& ba
       numbers[i] = next_number++;
     }
   }
-  const int threads = std::max(1, settings_.threads / settings_.parallel_trials);
-  std::vector<double> moduli;
-  for (std::size_t i : todo) moduli.push_back(batch[i].effective_modulus);
-  const std::vector<double> prepare_seconds = shears_->prepare(moduli, settings_.parallel_trials, threads);
-
   // `rank`: the MPI rank that ran the trial, named when there are several; -1 for a reused one.
   auto report = [&](const TrialResult& t, bool reused, int rank) {
     ++p.asked;
@@ -343,8 +346,36 @@ std::vector<TrialResult> Calibration::evaluate(const std::vector<ContactFit>& ba
   };
   for (std::size_t i = 0; i < batch.size(); ++i)
     if (ready[i]) report(out[i], true, -1);
+  // A trial finished by a run that stopped before trials.csv got it (over MPI, a round's trials
+  // reach it together) left its result in its folder: the leading process finds those.
+  const std::string left_over = farm_->on_leader([&] {
+    std::string bytes;
+    for (std::size_t i : todo) {
+      const fs::path file = shears_->trial_dir(numbers[i]) / "result.csv";
+      if (!fs::exists(file)) continue;
+      const std::vector<TrialResult> rows = read_trial_rows(file);
+      if (rows.size() == 1 && rows[0].trial == numbers[i] && rows[0].fit == batch[i]) bytes += trial_bytes(rows[0]);
+    }
+    return bytes;
+  });
+  for (std::size_t at = 0; at < left_over.size(); at += trial_byte_count) {
+    const TrialResult t = trial_from_bytes(left_over.substr(at, trial_byte_count));
+    const auto i = std::find_if(todo.begin(), todo.end(), [&](std::size_t j) { return numbers[j] == t.trial; });
+    trials_.insert(std::lower_bound(trials_.begin(), trials_.end(), t.trial, [](const TrialResult& x, int n) { return x.trial < n; }), t);
+    if (farm_->leads()) save_trials();
+    out[*i] = t;
+    ready[*i] = true;
+    report(t, true, -1);
+    todo.erase(i);
+  }
 
-  // A trial runs on one process; its result reaches every process as the bytes of its columns.
+  const int threads = std::max(1, settings_.threads / settings_.parallel_trials);
+  std::vector<double> moduli;
+  for (std::size_t i : todo) moduli.push_back(batch[i].effective_modulus);
+  const std::vector<double> prepare_seconds = shears_->prepare(moduli, settings_.parallel_trials, threads);
+
+  // A trial runs on one process; its result reaches every process as the bytes of its columns,
+  // and stays in its folder (result.csv) until trials.csv has it.
   farm_->run(
       todo.size(), settings_.parallel_trials,
       [&](std::size_t k) {
@@ -358,7 +389,9 @@ std::vector<TrialResult> Calibration::evaluate(const std::vector<ContactFit>& ba
         } catch (const std::exception& e) {
           throw std::runtime_error("trial " + std::to_string(numbers[i]) + " (" + describe(batch[i]) + "): " + e.what());
         }
-        return trial_bytes(measure(batch[i], model, numbers[i], stage, seconds_since(t0) + prepare_seconds[k]));
+        const TrialResult t = measure(batch[i], model, numbers[i], stage, seconds_since(t0) + prepare_seconds[k]);
+        write_trial_rows(shears_->trial_dir(numbers[i]) / "result.csv", {t});
+        return trial_bytes(t);
       },
       [&](std::size_t k, const std::string& bytes) {
         const TrialResult t = trial_from_bytes(bytes);

@@ -24,8 +24,8 @@
 // A trial writes a history row every min(output.every_strain, largest lab strain / 50).
 //
 // Resumable and deterministic: trials.csv holds every finished trial, keyed on the exact
-// parameter values (17 significant digits); a calibration started again with the same --out
-// reuses them, and because the searches decide only on whole batches, the same trials come back
+// parameter values (17 significant digits), and each trial's folder its own row (result.csv); a
+// calibration started again with the same --out reuses them, and because the searches decide only on whole batches, the same trials come back
 // in the same order whatever --parallel-trials is. setup.txt guards against resuming with another
 // lab file or configuration.
 //
@@ -256,11 +256,14 @@ class ShearTrials {
   std::vector<double> prepare(const std::vector<double>& moduli, int parallel, int threads);
   /// Shears the consolidated specimen of fit.effective_modulus (prepared before) with `fit` to
   /// shear strain `strain` in trials/<number>/, a history row every output_every_strain of the
-  /// base configuration. Returns the model curve; the folder keeps history.csv and log.txt. Runs on
+  /// base configuration. Returns the model curve; the folder keeps history.csv and log.txt (and
+  /// the Calibration adds result.csv, the trial's row of trials.csv). Runs on
   /// the process that calls it alone.
   ModelCurve shear(const ContactFit& fit, double strain, int number, int threads) const;
   /// The history of a finished trial, or nullopt if its folder has none.
   std::optional<ModelCurve> stored_curve(int number) const;
+  /// Trial `number`'s folder: trials/<number, four digits>.
+  std::filesystem::path trial_dir(int number) const;
 
   const std::filesystem::path& out_dir() const { return out_dir_; }
   parallel::TaskFarm& farm() const { return *farm_; }
@@ -270,7 +273,6 @@ class ShearTrials {
   std::filesystem::path specimen_restart(double modulus) const;  // consolidated restart of this E*
   void generate_once(int threads);
   void consolidate_specimen(double modulus, int threads);  // specimen_dir(modulus), per rule_
-  std::filesystem::path trial_dir(int number) const;
   SimpleShearConfig config_for(const ContactFit& fit, int threads) const;
 
   SimpleShearConfig base_;
