@@ -81,29 +81,31 @@ const TrialColumn trial_columns[] = {
 };
 #undef DEM_TRIAL_COLUMN
 
-// A trial's columns as the bytes of their doubles, to carry it between processes bit for bit.
-constexpr std::size_t trial_byte_count = std::size(trial_columns) * sizeof(double);
-
-std::string trial_bytes(const TrialResult& t) {
+// Trials as the bytes of their columns' doubles, one after another, to carry them between
+// processes bit for bit.
+std::string trials_bytes(const std::vector<TrialResult>& trials) {
   std::string bytes;
-  for (const TrialColumn& c : trial_columns) {
-    const double v = c.get(t);
-    bytes.append(reinterpret_cast<const char*>(&v), sizeof v);
-  }
+  for (const TrialResult& t : trials)
+    for (const TrialColumn& c : trial_columns) {
+      const double v = c.get(t);
+      bytes.append(reinterpret_cast<const char*>(&v), sizeof v);
+    }
   return bytes;
 }
 
-TrialResult trial_from_bytes(const std::string& bytes) {
-  if (bytes.size() != trial_byte_count)
-    throw std::runtime_error("a trial's result arrived with " + std::to_string(bytes.size()) + " bytes, not " +
-                             std::to_string(trial_byte_count));
-  TrialResult t;
-  for (std::size_t k = 0; k < std::size(trial_columns); ++k) {
-    double v = 0;
-    std::memcpy(&v, bytes.data() + k * sizeof v, sizeof v);
-    trial_columns[k].set(t, v);
-  }
-  return t;
+std::vector<TrialResult> trials_from_bytes(const std::string& bytes) {
+  constexpr std::size_t row_bytes = std::size(trial_columns) * sizeof(double);
+  if (bytes.size() % row_bytes != 0)
+    throw std::runtime_error("trial results arrived with " + std::to_string(bytes.size()) + " bytes, not a multiple of " +
+                             std::to_string(row_bytes));
+  std::vector<TrialResult> trials(bytes.size() / row_bytes);
+  for (std::size_t r = 0; r < trials.size(); ++r)
+    for (std::size_t k = 0; k < std::size(trial_columns); ++k) {
+      double v = 0;
+      std::memcpy(&v, bytes.data() + r * row_bytes + k * sizeof v, sizeof v);
+      trial_columns[k].set(trials[r], v);
+    }
+  return trials;
 }
 
 // Rows of trials.csv (or of a trial folder's result.csv), each column found by its name.
@@ -201,14 +203,11 @@ Calibration::Calibration(io::Config config, CalibrationSettings settings, LabCur
   const std::string setup = setup_text() + "from " + (from.empty() ? std::string("none") : file_hash(from)) + "\n";
   const std::string finished = farm_->on_leader([&] {
     claim_folder(setup);
-    std::string bytes = fs::exists(out_dir_ / "trials.csv") ? "R" : "-";
-    if (bytes == "R") load_trials();
-    for (const TrialResult& t : trials_) bytes += trial_bytes(t);
-    return bytes;
+    const bool resuming = fs::exists(out_dir_ / "trials.csv");
+    if (resuming) load_trials();
+    return (resuming ? "R" : "-") + trials_bytes(trials_);
   });
-  if (!farm_->leads())
-    for (std::size_t at = 1; at < finished.size(); at += trial_byte_count)
-      trials_.push_back(trial_from_bytes(finished.substr(at, trial_byte_count)));
+  if (!farm_->leads()) trials_ = trials_from_bytes(finished.substr(1));
   if (finished.front() == 'R')
     log_ << "resuming: " << trials_.size() << " finished trial(s) in " << (out_dir_ / "trials.csv").string() << "\n";
   shears_ = std::make_unique<ShearTrials>(std::move(shear), out_dir_, from, settings_.fit_modulus, log_, settings_.modulus_specimen, farm_);
@@ -346,23 +345,26 @@ std::vector<TrialResult> Calibration::evaluate(const std::vector<ContactFit>& ba
   };
   for (std::size_t i = 0; i < batch.size(); ++i)
     if (ready[i]) report(out[i], true, -1);
+  // A finished trial joins trials_ in number order, and trials.csv at once.
+  auto keep = [&](const TrialResult& t) {
+    trials_.insert(std::lower_bound(trials_.begin(), trials_.end(), t.trial, [](const TrialResult& x, int n) { return x.trial < n; }), t);
+    if (farm_->leads()) save_trials();
+  };
   // A trial finished by a run that stopped before trials.csv got it (over MPI, a round's trials
   // reach it together) left its result in its folder: the leading process finds those.
-  const std::string left_over = farm_->on_leader([&] {
-    std::string bytes;
+  const std::vector<TrialResult> left_over = trials_from_bytes(farm_->on_leader([&] {
+    std::vector<TrialResult> found;
     for (std::size_t i : todo) {
       const fs::path file = shears_->trial_dir(numbers[i]) / "result.csv";
       if (!fs::exists(file)) continue;
       const std::vector<TrialResult> rows = read_trial_rows(file);
-      if (rows.size() == 1 && rows[0].trial == numbers[i] && rows[0].fit == batch[i]) bytes += trial_bytes(rows[0]);
+      if (rows.size() == 1 && rows[0].trial == numbers[i] && rows[0].fit == batch[i]) found.push_back(rows[0]);
     }
-    return bytes;
-  });
-  for (std::size_t at = 0; at < left_over.size(); at += trial_byte_count) {
-    const TrialResult t = trial_from_bytes(left_over.substr(at, trial_byte_count));
+    return trials_bytes(found);
+  }));
+  for (const TrialResult& t : left_over) {
     const auto i = std::find_if(todo.begin(), todo.end(), [&](std::size_t j) { return numbers[j] == t.trial; });
-    trials_.insert(std::lower_bound(trials_.begin(), trials_.end(), t.trial, [](const TrialResult& x, int n) { return x.trial < n; }), t);
-    if (farm_->leads()) save_trials();
+    keep(t);
     out[*i] = t;
     ready[*i] = true;
     report(t, true, -1);
@@ -391,13 +393,11 @@ std::vector<TrialResult> Calibration::evaluate(const std::vector<ContactFit>& ba
         }
         const TrialResult t = measure(batch[i], model, numbers[i], stage, seconds_since(t0) + prepare_seconds[k]);
         write_trial_rows(shears_->trial_dir(numbers[i]) / "result.csv", {t});
-        return trial_bytes(t);
+        return trials_bytes({t});
       },
       [&](std::size_t k, const std::string& bytes) {
-        const TrialResult t = trial_from_bytes(bytes);
-        const auto at = std::lower_bound(trials_.begin(), trials_.end(), t.trial, [](const TrialResult& x, int n) { return x.trial < n; });
-        trials_.insert(at, t);
-        if (farm_->leads()) save_trials();
+        const TrialResult t = trials_from_bytes(bytes).at(0);
+        keep(t);
         ++p.new_trials;
         p.new_seconds += t.seconds;
         out[todo[k]] = t;
