@@ -126,10 +126,18 @@ void World::add_callback(std::int64_t every, std::function<void(World&)> callbac
 
 void World::step(std::int64_t n) {
   for (std::int64_t s = 0; s < n; ++s) {
-    const auto t0 = std::chrono::steady_clock::now();
-    if (BroadPhase::needs_rebuild(state_.rebuild))
+    auto t0 = std::chrono::steady_clock::now();
+    if (BroadPhase::needs_rebuild(state_.rebuild)) {
+      synchronise();  // spread over processes: each makes the same lists from the whole state
+      timing_.communication += seconds_since(t0);
+      t0 = std::chrono::steady_clock::now();
       rebuild(state_.settings.sort_every > 0 && state_.rebuild.rebuilds % state_.settings.sort_every == 0);
-    if (broad_phase_.near_stale()) broad_phase_.refresh_near(state_, threads_);
+    }
+    plan_domains();
+    if (broad_phase_.near_stale()) {
+      broad_phase_.refresh_near(state_, threads_);
+      keep_local_near();
+    }
     if (state_.clock.dt <= 0.0) update_time_step();
     timing_.rebuilds += seconds_since(t0);
     compute_forces();  // times its own parts
@@ -138,9 +146,16 @@ void World::step(std::int64_t n) {
     const auto t2 = std::chrono::steady_clock::now();
     timing_.controllers += std::chrono::duration<double>(t2 - t1).count();
     integrate();
-    timing_.integration += seconds_since(t2);
+    const auto t3 = std::chrono::steady_clock::now();
+    timing_.integration += std::chrono::duration<double>(t3 - t2).count();
+    share_ghosts();  // spread over processes: the partners of the next step's contacts
     state_.clock.time += state_.clock.dt;
     ++state_.clock.steps;
+    // Callbacks (and the caller, after the last step) see the whole state on every process.
+    bool due = false;
+    for (const auto& [every, callback] : callbacks_) due = due || state_.clock.steps % every == 0;
+    if (due || s + 1 == n) synchronise();
+    timing_.communication += seconds_since(t3);
     for (auto& [every, callback] : callbacks_)
       if (state_.clock.steps % every == 0) callback(*this);
   }
@@ -158,17 +173,22 @@ bool World::run_until(const std::function<bool(const World&)>& done, std::int64_
   return false;
 }
 
-void World::rebuild_now(bool resort) { rebuild(resort); }
+void World::rebuild_now(bool resort) {
+  synchronise();
+  rebuild(resort);
+}
 
 void World::rebuild(bool resort) {
   broad_phase_.rebuild(state_, models_, threads_, resort);
   gather_plan_stale_ = true;
+  forget_domains();
   if (state_.settings.time_step <= 0.0 && state_.clock.dt > 0.0) update_time_step();
 }
 
 void World::restore(WorldState state) {
   state_ = std::move(state);
   gather_plan_stale_ = true;  // the restored contact lists are not those the plan was made for
+  forget_domains();
   broad_phase_.invalidate_near();
   // The file's time step belongs to the stiffness it was written with. Contact models that are
   // stiffer (another E*) need a shorter one; the same models keep the file's (the estimate moves by

@@ -92,6 +92,9 @@ void World::compute_forces() {
   ctx.walls = &state_.walls;
   ctx.dt = state_.clock.dt;
   ctx.threads = threads_;
+  const auto [owned_begin, owned_end] = owned_range();
+  ctx.owned_begin = static_cast<std::int64_t>(owned_begin);
+  ctx.owned_end = static_cast<std::int64_t>(owned_end);
 
   ParticleStore& p = state_.particles;
   WorldContacts& contacts = state_.contacts;
@@ -139,6 +142,10 @@ void World::compute_forces() {
     }
   }
 
+  time_into(timing_.force_sums);
+  share_contact_results(worst.monitor.ratio);  // spread over processes: pebbles and wall contacts of every subdomain
+  time_into(timing_.communication);
+
   for (auto& w : state_.walls) {
     w.force.setZero();
     w.moment.setZero();
@@ -158,7 +165,7 @@ void World::compute_forces() {
       w.stiffness_sum += wc.normal_stiffness[k];
     }
   });
-  check_stability(worst);
+  check_stability(global_worst(worst));
   time_into(timing_.force_sums);
 }
 

@@ -25,7 +25,10 @@ void World::integrate() {
   const double alpha = state_.settings.local_damping;
   const Vec3 g = state_.settings.gravity;
   const double dt = state_.clock.dt;
-  const auto n = static_cast<std::int64_t>(p.size());
+  // This process's particles (all of them unless the World is spread over processes).
+  const auto [owned_begin, owned_end] = owned_range();
+  const auto first = static_cast<std::int64_t>(owned_begin);
+  const auto n = static_cast<std::int64_t>(owned_end - owned_begin);
   const double step_ratio = state_.settings.max_step_travel_ratio;
   // broad_phase_.positions_at_near() is current: step() refreshed the near lists before the forces
   const DampingFrame* frame = damping_frame_.at_rest() ? nullptr : &damping_frame_;
@@ -44,12 +47,21 @@ void World::integrate() {
     const std::int64_t team = 1, me = 0;
 #endif
     const std::int64_t groups = (n + 7) / 8;
-    const std::int64_t begin = std::min(n, 8 * (groups * me / team)), end = std::min(n, 8 * (groups * (me + 1) / team));
+    const std::int64_t begin = first + std::min(n, 8 * (groups * me / team)), end = first + std::min(n, 8 * (groups * (me + 1) / team));
     detail::LeapfrogTally tally{travel_sq, near_travel_sq, bad};
     detail::leapfrog(p, leapfrog_step, begin, end, tally);
     travel_sq = tally.travel_sq;
     near_travel_sq = tally.near_travel_sq;
     bad = tally.first_unstable;
+  }
+  if (spread()) {  // the largest travels and the first unstable particle of all subdomains
+    double maxima[3] = {travel_sq, near_travel_sq, -static_cast<double>(bad)};
+    global_max(maxima, 3);
+    travel_sq = maxima[0], near_travel_sq = maxima[1];
+    if (maxima[2] != -static_cast<double>(std::numeric_limits<std::int64_t>::max())) {
+      bad = static_cast<std::int64_t>(-maxima[2]);
+      synchronise();  // the message reads the particle where it is owned
+    }
   }
   state_.rebuild.max_travel_sq = travel_sq;
   broad_phase_.set_near_travel_sq(near_travel_sq);

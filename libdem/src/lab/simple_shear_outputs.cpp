@@ -419,12 +419,13 @@ void SimpleShearTest::write_summary(const std::string& resolved_config_json) con
   j["particle_steps_per_second"] =
       wall_seconds_ > 0 ? static_cast<double>(world_->step_count()) * static_cast<double>(world_->particles().size()) / wall_seconds_ : 0.0;
   j["threads"] = world_->threads();
+  j["processes"] = world_->ranks();  // MPI ranks the simulation was spread over
   j["time_step_s"] = world_->time_step();
   // Where this process's steps spent their time (a resumed run: since it resumed).
   const StepTiming& t = world_->step_timing();
   j["step_timing_s"] = {{"rebuilds", t.rebuilds},       {"ball_ball", t.ball_ball},     {"ball_pebble", t.ball_pebble},
                         {"ball_facet", t.ball_facet},   {"force_sums", t.force_sums},   {"controllers", t.controllers},
-                        {"integration", t.integration}, {"total", t.total()}};
+                        {"integration", t.integration}, {"communication", t.communication}, {"total", t.total()}};
   j["configuration"] = io::Json::parse(resolved_config_json);
   if (!restart_folder_.empty()) {
     io::Json changed;

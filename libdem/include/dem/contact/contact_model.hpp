@@ -17,6 +17,8 @@
 
 #include <array>
 #include <concepts>
+#include <cstdint>
+#include <limits>
 #include <memory>
 #include <new>
 #include <string>
@@ -54,6 +56,10 @@ struct KernelContext {
   Vec3* scatter_force = nullptr;
   Vec3* scatter_torque = nullptr;
   const std::uint8_t* gathered = nullptr;  // null: one thread, nothing gathered
+  /// A World spread over processes (World::spread_over) computes the wall contacts of its own
+  /// balls only, storage indices [owned_begin, owned_end); the others keep their records.
+  std::int64_t owned_begin = 0;
+  std::int64_t owned_end = std::numeric_limits<std::int64_t>::max();
 };
 
 /// A contact law bound to its parameters, for one contact type.

@@ -451,6 +451,7 @@ void wall_loop(const typename Law::Params& params, WallContacts& c, const Kernel
     OverlapMonitor local;
 #pragma omp for schedule(static)
     for (std::int64_t k = 0; k < count; ++k) {
+      if (c.ball[k] < ctx.owned_begin || c.ball[k] >= ctx.owned_end) continue;  // another process's ball
       const auto b = static_cast<std::size_t>(c.ball[k]);
       const Wall& wall = walls[static_cast<std::size_t>(c.wall[k])];
       const Vec3& centre = p.x[b];

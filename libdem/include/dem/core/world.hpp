@@ -34,7 +34,15 @@
 #include <dem/core/damping_frame.hpp>
 #include <dem/core/world_state.hpp>
 
+namespace dem::parallel {
+class DomainComm;
+}
+
 namespace dem {
+
+namespace detail {
+struct Subdomains;
+}
 
 /// Wall-clock seconds spent in each part of the step, summed over the steps since the World was
 /// made or reset_step_timing() (not part of the saved state). For benchmarks: where a step's time
@@ -47,7 +55,10 @@ struct StepTiming {
   double force_sums = 0.0;   // s, zeroing, gathering and summing forces on balls and walls, overlap check
   double controllers = 0.0;  // s, servo walls and protocol controllers
   double integration = 0.0;  // s, balls, clumps and pebbles, walls
-  double total() const { return rebuilds + ball_ball + ball_pebble + ball_facet + force_sums + controllers + integration; }
+  double communication = 0.0;  // s, spread over processes: ghosts, gathered sums, synchronisation
+  double total() const {
+    return rebuilds + ball_ball + ball_pebble + ball_facet + force_sums + controllers + integration + communication;
+  }
 };
 
 /// One contact as seen by measurements and outputs, after a step.
@@ -100,6 +111,28 @@ class World {
   /// Where the steps' time went so far (StepTiming).
   const StepTiming& step_timing() const { return timing_; }
   void reset_step_timing() { timing_ = {}; }
+
+  // --- one simulation over several processes (domain decomposition) ---------------------------
+  /// Spreads this World over the processes of `comm`: every process builds the same World (the
+  /// same balls, walls, clumps and models, or the same restart file) and calls this. Each then
+  /// owns a subdomain, a contiguous run of the cell-sorted storage (so a run of grid cells),
+  /// balanced by contact count at every neighbour-list rebuild: it computes the contacts of its
+  /// particles, using ghost copies of their partners within reach plus skin sent by their owners
+  /// every step, and integrates its particles. Wall, clump and pebble sums are gathered in the
+  /// serial order, so every process steps the same walls and clumps, and the results are the
+  /// serial ones bit for bit for any number of processes and threads.
+  ///
+  /// Between calls of step(), and when an every-N-steps callback runs, every process holds the
+  /// whole state (particles, contacts, walls), so queries, outputs and restart files work as
+  /// in one process. During a step, controllers see walls and clumps; particles are current only
+  /// in the process's own subdomain and its ghosts. One process (or none): nothing changes.
+  void spread_over(std::shared_ptr<parallel::DomainComm> comm);
+  /// Processes this World is spread over (1 unless spread_over), and this one's number.
+  int ranks() const;
+  int rank() const;
+  /// This process's particles (storage indices [first, second)) since the last rebuild; all of
+  /// them in one process.
+  std::pair<std::size_t, std::size_t> owned_range() const;
 
   // --- state ---------------------------------------------------------------------------------
   const ParticleStore& particles() const { return state_.particles; }
@@ -168,6 +201,27 @@ class World {
   /// overlap when it is softer than the stiffest, or the load).
   [[noreturn]] void fail(const std::string& what, std::size_t particle, std::optional<ContactKind> kind = std::nullopt) const;
 
+  // Spread over processes (world_domains.cpp); each does nothing in one process.
+  bool spread() const { return domains_ != nullptr; }
+  /// Subdomains, ghosts and slices from the lists now (after a rebuild or a load).
+  void plan_domains();
+  /// The lists changed (a rebuild or a load): plan again before the next forces.
+  void forget_domains();
+  /// Keeps in the near lists only the contacts this process computes.
+  void keep_local_near();
+  /// After the contact loops: the pebbles' sums and the wall contacts' records of every process,
+  /// and the step's worst overlap ratio over them (global_worst reads it).
+  void share_contact_results(double local_worst_ratio);
+  /// After integration: the ghosts' positions and velocities from their owners.
+  void share_ghosts();
+  /// Every process gets the whole state (particles and contact records) from their owners.
+  void synchronise();
+  /// The largest of `values` over the processes (element by element, in place).
+  void global_max(double* values, std::size_t count);
+  /// The worst overlap over all processes (after share_contact_results), with the whole state
+  /// synchronised if it stops the run.
+  WorstOverlap global_worst(const WorstOverlap& local);
+
   WorldState state_;
   ContactModelTable models_{};
   BroadPhase broad_phase_;
@@ -176,6 +230,8 @@ class World {
   std::vector<std::function<void(World&)>> controllers_;
   std::vector<std::pair<std::int64_t, std::function<void(World&)>>> callbacks_;
   StepTiming timing_;
+  std::shared_ptr<parallel::DomainComm> comm_;     // null: one process
+  std::shared_ptr<detail::Subdomains> domains_;    // the plan of a spread World
   // With several threads: the particles whose pair contacts fall in more than one thread's share
   // (their forces are gathered from per-contact records), planned once per neighbour list.
   std::vector<std::uint8_t> gathered_;
