@@ -11,6 +11,10 @@
 //
 // `dem-bench --generate 1750|14k|112k --out FILE` makes the benchmark packing itself
 // (packing_generator.cpp), so that nothing outside the repository is needed.
+//
+// Under mpirun (a build with libdem::mpi) the run is spread over the ranks (World::spread_over):
+// `mpirun -n 2 dem-bench --packing FILE --threads 1` is the strong-scaling measurement, and
+// --digest prints a hash of the final state that is the same for any rank and thread count.
 #include <sys/resource.h>
 
 #include <boost/program_options.hpp>
@@ -27,12 +31,40 @@
 
 #include "bench_system.hpp"
 #include "cpu_steal.hpp"
+#include "cli/task_farm.hpp"
 
 namespace po = boost::program_options;
 using namespace dem;
 using namespace dem::bench;
 
+namespace {
+
+/// FNV-1a over the bytes of every particle's position, velocities, force and torque (storage
+/// order) and every wall's force and displacement: equal digests, the same state bit for bit.
+std::uint64_t state_digest(const World& world) {
+  std::uint64_t h = 1469598103934665603ULL;
+  const auto add = [&h](const auto& values) {
+    const auto* bytes = reinterpret_cast<const unsigned char*>(values.data());
+    for (std::size_t b = 0; b < values.size() * sizeof(values[0]); ++b) h = (h ^ bytes[b]) * 1099511628211ULL;
+  };
+  const ParticleStore& p = world.particles();
+  add(p.x), add(p.v), add(p.w), add(p.f), add(p.t);
+  for (const Wall& w : world.walls()) add(std::vector<Vec3>{w.force, w.displacement});
+  return h;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
+  std::unique_ptr<parallel::TaskFarm> farm;
+  try {
+    farm = cli::open_task_farm(argc, argv);
+  } catch (const std::exception& e) {
+    std::cerr << "dem-bench: " << e.what() << "\n";
+    return 2;
+  }
+  // One rank reports: the others run the same steps silently.
+  if (!farm->leads() && std::freopen("/dev/null", "w", stdout) == nullptr) return 2;
   po::options_description opts("dem-bench options");
   std::string packing;
   long steps = 0;
@@ -56,7 +88,8 @@ int main(int argc, char** argv) {
       "make the benchmark packing 1750, 14k or 112k with libdem (seeded, the same every time; see packing_generator.cpp) "
       "and write it to --out")(
       "out", po::value(&generate.out), "packing file written by --generate")(
-      "seed", po::value(&generate.seed)->default_value(1), "random seed of --generate");
+      "seed", po::value(&generate.seed)->default_value(1), "random seed of --generate")(
+      "digest", "print a hash of the final state (state_digest), the same bit for bit for any rank and thread count");
   try {
     po::variables_map vm;
     po::store(po::parse_command_line(argc, argv, opts), vm);
@@ -68,6 +101,7 @@ int main(int argc, char** argv) {
     if (threads < 1) throw InputError("--threads = " + std::to_string(threads) + ": must be >= 1");
     if (vm.count("generate")) {
       if (vm.count("packing")) throw InputError("--generate and --packing: give one of them");
+      if (farm->processes() > 1) throw InputError("--generate runs in one process: run it without mpirun");
       generate.threads = threads;
       generate_packing(generate);
       return 0;
@@ -134,6 +168,8 @@ int main(int argc, char** argv) {
     if (top >= 0) world.wall(top).velocity = Vec3(0, 0, -wall_speed);
     const auto model = bench_law(gamma_n, friction, rolling_friction);
     for (ContactKind k : {ContactKind::BallBall, ContactKind::BallFacet, ContactKind::BallPebble}) world.set_contact_model(k, model);
+    const auto domains = cli::open_domains(*farm);
+    if (domains) world.spread_over(domains);
 
     world.step(1);  // neighbour lists and contacts, as the peers' setup before the timed run
     const double contacts_start = 2.0 * world.contact_count(ContactKind::BallBall) / ball_count;
@@ -146,6 +182,8 @@ int main(int argc, char** argv) {
                     2.0 * w.contact_count(ContactKind::BallBall) / ball_count,
                     vertical_stress(w, z), w.kinetic_energy());
       });
+    world.reset_step_timing();
+    const std::uint64_t sent0 = domains ? domains->bytes_sent() : 0;
     const auto ticks0 = bench::CpuTicks::now();
     const auto t0 = std::chrono::steady_clock::now();
     world.step(steps);
@@ -156,7 +194,16 @@ int main(int argc, char** argv) {
     const double top_now = top_z - wall_speed * dt * static_cast<double>(steps + 1);
     std::printf("balls: %zu\nsteps: %ld\ntime_step_s: %.3g\ngamma_n_per_s: %.4g\nskin_m: %.3g\nthreads: %d\n", ball_count,
                 steps, dt, gamma_n, 0.25 * d_min, world.threads());
+    std::printf("ranks: %d\n", world.ranks());
+    // What rank 0 sent per step of the loop (ghosts, gathered sums, the rebuilds' and the end's
+    // synchronisation), bytes.
+    if (domains) std::printf("sent_bytes_per_step: %.0f\n", static_cast<double>(domains->bytes_sent() - sent0) / static_cast<double>(steps));
     std::printf("loop_time_s: %.3f\nparticle_steps_per_second: %.4g\n", seconds, ball_count * steps / seconds);
+    // Where the loop's time went on this rank (StepTiming; communication: spread over ranks).
+    const StepTiming& split = world.step_timing();
+    std::printf("step_time_s: rebuilds %.3f ball_ball %.3f ball_pebble %.3f ball_facet %.3f force_sums %.3f integration %.3f "
+                "communication %.3f\n", split.rebuilds, split.ball_ball, split.ball_pebble, split.ball_facet, split.force_sums,
+                split.integration, split.communication);
     // Above a few percent the rate above is the hypervisor's, not the code's (cpu_steal.hpp).
     std::printf("cpu_steal_fraction: %.3f\n", steal);
     std::printf("contacts_per_ball_start: %.4f\ncontacts_per_ball_end: %.4f\n", contacts_start,
@@ -169,6 +216,7 @@ int main(int argc, char** argv) {
     std::printf("vertical_stress_Pa: %.6g\nkinetic_energy_J: %.6g\nrebuilds: %lld\npeak_rss_bytes_per_ball: %.0f\n",
                 vertical_stress(world, top_now), world.kinetic_energy(), static_cast<long long>(world.rebuild_count()),
                 usage.ru_maxrss * 1024.0 / ball_count);
+    if (vm.count("digest")) std::printf("state_digest: %016llx\n", static_cast<unsigned long long>(state_digest(world)));
     // After the peak RSS is read: the timed rebuilds are a separate measurement.
     if (rebuilds > 0) {
       const auto r0 = std::chrono::steady_clock::now();
@@ -177,7 +225,6 @@ int main(int argc, char** argv) {
       std::printf("rebuild_time_s: %.4g\n", rebuild_seconds / static_cast<double>(rebuilds));
     }
   } catch (const std::exception& e) {
-    std::cerr << "dem-bench: " << e.what() << "\n";
-    return 2;
+    return cli::end_on_error(*farm, "dem-bench", e, 2, std::cerr);
   }
 }

@@ -5,6 +5,7 @@
 #include <dem/core/errors.hpp>
 
 #ifdef LIBDEM_WITH_MPI
+#include <dem/parallel/mpi_domains.hpp>
 #include <dem/parallel/mpi_farm.hpp>
 #endif
 
@@ -26,13 +27,22 @@ std::unique_ptr<parallel::TaskFarm> open_task_farm([[maybe_unused]] int& argc, [
 #endif
 }
 
+std::shared_ptr<parallel::DomainComm> open_domains([[maybe_unused]] parallel::TaskFarm& farm) {
+#ifdef LIBDEM_WITH_MPI
+  if (auto* mpi = dynamic_cast<parallel::MpiFarm*>(&farm); mpi && mpi->processes() > 1)
+    return std::make_shared<parallel::MpiDomains>(*mpi);
+#endif
+  return nullptr;
+}
+
 void require_one_process(const std::string& program) {
   const int ranks = parallel::launched_ranks();
   if (ranks == 0 || ranks == 1) return;
-  throw InputError(program + " runs one simulation in one process, and was started on " +
+  throw InputError(program + " runs in one process, and was started on " +
                    (ranks > 0 ? std::to_string(ranks) : std::string("several")) +
                    " MPI ranks (each would run it whole in the same folder): run it without mpirun; over MPI ranks, "
-                   "dem-ensemble runs seeds and dem-calibrate runs trials (one simulation across ranks is not implemented)");
+                   "dem-simple-shear and dem-consolidate spread one simulation, dem-ensemble runs seeds and dem-calibrate "
+                   "runs trials");
 }
 
 int end_on_error(parallel::TaskFarm& farm, const std::string& program, const std::exception& error, int code,

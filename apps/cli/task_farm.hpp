@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 
+#include <dem/parallel/domain_comm.hpp>
 #include <dem/parallel/task_farm.hpp>
 
 namespace dem::cli {
@@ -15,8 +16,12 @@ namespace dem::cli {
 /// InputError that says so (every rank would otherwise do the whole run in the same folder).
 std::unique_ptr<parallel::TaskFarm> open_task_farm(int& argc, char**& argv);
 
+/// The farm's processes as the subdomains of one World (World::spread_over) when it is an MpiFarm
+/// of more than one rank; null otherwise (one process).
+std::shared_ptr<parallel::DomainComm> open_domains(parallel::TaskFarm& farm);
+
 /// InputError when an MPI launcher started this program on more than one rank: for the apps that
-/// run one simulation.
+/// run in one process only (dem-cyclic-shear).
 void require_one_process(const std::string& program);
 
 /// Reports `error` (prefixed with `program`) and returns `code` for main to return. On several
