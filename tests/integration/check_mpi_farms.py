@@ -15,13 +15,13 @@ Checked, on the reduced specimen (30 mm x 12 mm, 4D balls) and a lab curve writt
 - dem-ensemble under mpirun -n 2 and 3: every seed's history.csv equals the one-process run byte
   for byte, and the seeds are shared out over the ranks.
 - scripts/ensemble --mpi 2 writes the same ensemble.csv as --jobs 1.
-- dem-simple-shear, which runs one simulation, refuses two ranks (exit code 2, saying why) instead
-  of running twice into one folder.
 
 OpenMPI refuses to run as root without its two allow variables: they are set here, for the
 processes this test starts, not globally.
 
-Usage: check_mpi_farms.py DEM_CALIBRATE DEM_ENSEMBLE DEM_SIMPLE_SHEAR MPIRUN
+One simulation spread over ranks (dem-simple-shear, dem-consolidate): check_mpi_domains.py.
+
+Usage: check_mpi_farms.py DEM_CALIBRATE DEM_ENSEMBLE MPIRUN
 """
 
 import csv
@@ -34,7 +34,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-calibrate, ensemble, simple_shear, mpirun = sys.argv[1:5]
+calibrate, ensemble, mpirun = sys.argv[1:4]
 env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMP_NUM_THREADS="1")
 failures = []
 
@@ -160,10 +160,6 @@ with tempfile.TemporaryDirectory() as tmp:
             print(result.stdout[-3000:], result.stderr[-3000:])
         tables.append((tmp / name / "ensemble.csv").read_bytes() if (tmp / name / "ensemble.csv").is_file() else None)
     check(tables[0] is not None and tables[0] == tables[1], "scripts/ensemble --mpi 2 writes the ensemble.csv of --jobs 1, byte for byte")
-
-    single = run([simple_shear, "--out", str(tmp / "single"), *shear], 2)
-    check(single.returncode == 2 and "runs one simulation in one process" in single.stderr and not (tmp / "single").exists(),
-          f"dem-simple-shear refuses two ranks with exit code 2 and touches no folder (exit {single.returncode})")
 
 print(f"MPI task farm checks: {len(failures)} failed")
 sys.exit(1 if failures else 0)

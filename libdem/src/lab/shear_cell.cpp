@@ -1,5 +1,7 @@
 #include <dem/lab/shear_cell.hpp>
 
+#include <dem/core/errors.hpp>
+
 #include <algorithm>
 #include <vector>
 
@@ -67,6 +69,14 @@ DampingFrame plate_damping_frame(const World& world, const ShearCell& cell) {
 // docs/model.md 4: with Follow, ring k keeps its fraction s_k = (z_k - z_b) / H of the height
 // between the plates: v_k,z = v_b,z + s_k (v_t,z - v_b,z), so z_k - z_b - s_k H is invariant under
 // the step (both move by v dt). Prescribed rings also interpolate horizontally.
+void require_rings_spreadable(RingVertical rings, int processes) {
+  // Sand reads inside the step, where a World spread over processes holds only its own subdomain.
+  if (rings == RingVertical::Sand && processes > 1)
+    throw InputError("rings.vertical = sand: the rings follow the balls touching them, read during each step, which a "
+                     "simulation spread over " + std::to_string(processes) +
+                     " processes does not gather; use fixed, follow, prescribed or free, or run it in one process");
+}
+
 void move_rings(World& world, const ShearCell& cell, bool specimen_made) {
   if (cell.rings == RingVertical::Fixed) return;
   // Free rings follow the plates only while the specimen is made; then the sand carries them.
@@ -79,6 +89,7 @@ void move_rings(World& world, const ShearCell& cell, bool specimen_made) {
   // while the specimen is made, or for a ring that touches none).
   std::vector<double> sand_vz, touching;
   if (cell.rings == RingVertical::Sand && specimen_made) {
+    require_rings_spreadable(cell.rings, world.ranks());
     sand_vz.assign(world.clumps().size(), 0.0);
     touching.assign(world.clumps().size(), 0.0);
     const PairContacts& pebbles = world.pair_contacts(ContactKind::BallPebble);

@@ -59,7 +59,11 @@ double ring_lateral_stress(const World& world, const ShearCell& cell);
 /// the vertical velocity between the plates; afterwards Follow and Prescribed interpolate (and
 /// Prescribed also horizontally), Sand takes the mean vertical velocity of the balls touching each
 /// ring, and Free and Fixed leave the rings to the engine.
+/// A simulation spread over processes (World::spread_over) runs every mode but Sand, which reads
+/// the balls touching each ring during the step: InputError for Sand on more than one process.
 void move_rings(World& world, const ShearCell& cell, bool specimen_made);
+/// The same check before any work: InputError if `rings` is Sand and `processes` > 1.
+void require_rings_spreadable(RingVertical rings, int processes);
 
 /// The plates' affine field: each plate's velocity at its height (the bottom plate's surface, built
 /// at z = 0, moved by its displacement), interpolated linearly between them (uniform simple shear,
