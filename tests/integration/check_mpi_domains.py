@@ -4,9 +4,10 @@ one process bit for bit, for 1, 2 and 3 ranks (mpirun --oversubscribe on any mac
 
 Checked:
 - dem-bench on the 1,750-ball benchmark packing (generated here), with the ring-stack boundary
-  (clumps, facet plates) and with the facet cylinder: the state digest after 3,000 steps (every
-  particle's position, velocities, force and torque, every wall's force and displacement) equals
-  the one-process run's on 2 and 3 ranks, and on 2 ranks x 2 threads.
+  (clumps, facet plates) and with the facet cylinder, and on the 14k packing with the cylinder: the
+  state digest after 3,000 (500) steps (every particle's position, velocities, force and torque,
+  every wall's force and displacement) equals the one-process run's on 2 and 3 ranks (and, for
+  1,750 balls, on 2 ranks x 2 threads).
 - dem-simple-shear on the 4D preset (generation, consolidation, shear to 5 %) on 2 and 3 ranks:
   history.csv equals the one-process run's byte for byte; summary.json records the rank count.
 - a 2-rank run killed during the generation and resumed from its restart file on 3 ranks ends with
@@ -65,16 +66,18 @@ with tempfile.TemporaryDirectory() as work:
     tmp = Path(work)
 
     # The benchmark system: particles, clumps and walls, bit for bit.
-    packing = tmp / "1750.txt"
-    check(run([bench, "--generate", "1750", "--out", str(packing)]).returncode == 0, "dem-bench --generate 1750")
-    for boundary in ("rings", "cylinder"):
-        args = [bench, "--packing", str(packing), "--steps", "3000", "--boundary", boundary, "--segments", "60", "--digest"]
-        one = digest(run(args))
-        check(one is not None, f"{boundary}: the one-process run prints its state digest")
-        for ranks, threads in ((2, 1), (3, 1), (2, 2)):
-            result = run(args + ["--threads", str(threads)], ranks)
-            check(result.returncode == 0 and f"ranks: {ranks}" in result.stdout and digest(result) == one,
-                  f"{boundary}: {ranks} ranks x {threads} threads end in the one-process state ({digest(result)} vs {one})")
+    for size, steps, boundaries, layouts in (("1750", "3000", ("rings", "cylinder"), ((2, 1), (3, 1), (2, 2))),
+                                             ("14k", "500", ("cylinder",), ((2, 1), (3, 1)))):
+        packing = tmp / f"{size}.txt"
+        check(run([bench, "--generate", size, "--out", str(packing), "--threads", "2"]).returncode == 0, f"dem-bench --generate {size}")
+        for boundary in boundaries:
+            args = [bench, "--packing", str(packing), "--steps", steps, "--boundary", boundary, "--segments", "60", "--digest"]
+            one = digest(run(args))
+            check(one is not None, f"{size}, {boundary}: the one-process run prints its state digest")
+            for ranks, threads in layouts:
+                result = run(args + ["--threads", str(threads)], ranks)
+                check(result.returncode == 0 and f"ranks: {ranks}" in result.stdout and digest(result) == one,
+                      f"{size}, {boundary}: {ranks} ranks x {threads} threads end in the one-process state ({digest(result)} vs {one})")
 
     # The 4D preset to 5 % strain: the history of the whole test.
     preset = ["--preset", "4D", "--threads", "1", "--set", "shear.target_strain=0.05", "--set", "output.snapshot_strains=",
@@ -97,7 +100,7 @@ with tempfile.TemporaryDirectory() as work:
     process = subprocess.Popen(launched([simple_shear, "--out", str(killed), *preset], 2), stdout=subprocess.PIPE,
                                stderr=subprocess.STDOUT, text=True, env=env)
     for line in process.stdout:
-        if "[generation] stage 3/8" in line:
+        if "[generation] stage 6/8" in line:
             break
     time.sleep(1.0)  # a restart file every 2000 steps: several are written by now
     process.send_signal(signal.SIGTERM)

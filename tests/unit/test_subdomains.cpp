@@ -130,11 +130,12 @@ SpreadRun run_spread(int ranks, std::int64_t steps, const WorldState* start = nu
       last = w.owned_range();
     });
     world.step(steps);
+    const WorldState& state = world.state();  // collective: every process asks
     std::lock_guard lock(m);
     out.owned_total += last.second - last.first;
     out.owners_changed = out.owners_changed || changed;
     if (comm->rank() == 0) {
-      out.state = world.state();
+      out.state = state;
       out.touching_contacts = static_cast<std::int64_t>(world.contact_count(ContactKind::BallBall));
     }
   });

@@ -129,6 +129,7 @@ void World::step(std::int64_t n) {
     auto t0 = std::chrono::steady_clock::now();
     if (BroadPhase::needs_rebuild(state_.rebuild)) {
       synchronise();  // spread over processes: each makes the same lists from the whole state
+      synchronise_history();
       timing_.communication += seconds_since(t0);
       t0 = std::chrono::steady_clock::now();
       rebuild(state_.settings.sort_every > 0 && state_.rebuild.rebuilds % state_.settings.sort_every == 0);
@@ -175,6 +176,7 @@ bool World::run_until(const std::function<bool(const World&)>& done, std::int64_
 
 void World::rebuild_now(bool resort) {
   synchronise();
+  synchronise_history();
   rebuild(resort);
 }
 

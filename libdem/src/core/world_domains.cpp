@@ -33,7 +33,8 @@ namespace detail {
 struct Subdomains {
   int ranks = 1, rank = 0;
   bool planned = false;
-  bool whole = false;  // every process holds the whole state (synchronised since the last step)
+  bool whole = false;    // every process holds every particle and contact record (since the last step)
+  bool history = false;  // ... and every contact's history
   double worst_ratio = 0.0;  // the step's worst overlap ratio over all processes
   std::vector<std::int64_t> begin;  // ranks + 1: process r owns particles [begin[r], begin[r + 1])
   std::vector<std::int32_t> range_of;  // per particle: the process whose subdomain holds it
@@ -352,7 +353,7 @@ void World::share_contact_results(double local_worst_ratio) {
 void World::share_ghosts() {
   if (!spread()) return;
   detail::Subdomains& d = *domains_;
-  d.whole = false;
+  d.whole = d.history = false;
   ParticleStore& p = state_.particles;
   for (std::size_t r = 0; r < d.send.size(); ++r) {
     std::byte* at = d.send_bytes[r].data();
@@ -385,9 +386,7 @@ void World::synchronise() {
   state_.contacts.for_each_pair_set([&](PairContacts& c) {
     const std::vector<std::size_t>& slices = d.pair_slices[static_cast<std::size_t>(set++)];
     if (c.size() == 0) return;
-    gather_slices(*comm_, slices,
-                  {field(c.force, c.size()), field(c.normal_force, c.size()), field(c.touching, c.size()), field(c.state)},
-                  d.buffer);
+    gather_slices(*comm_, slices, {field(c.force, c.size()), field(c.normal_force, c.size()), field(c.touching, c.size())}, d.buffer);
   });
   set = 0;
   state_.contacts.for_each_wall_set([&](WallContacts& c) {
@@ -395,10 +394,31 @@ void World::synchronise() {
     if (c.size() == 0) return;
     gather_slices(*comm_, slices,
                   {field(c.force, c.size()), field(c.torque_ball, c.size()), field(c.point, c.size()),
-                   field(c.moment, c.size()), field(c.normal_force, c.size()), field(c.normal_stiffness, c.size()),
-                   field(c.state)},
+                   field(c.moment, c.size()), field(c.normal_force, c.size()), field(c.normal_stiffness, c.size())},
                   d.buffer);
   });
+}
+
+void World::synchronise_history() {
+  if (!spread() || !domains_->planned || domains_->history) return;
+  detail::Subdomains& d = *domains_;
+  d.history = true;
+  int set = 0;
+  state_.contacts.for_each_pair_set([&](PairContacts& c) {
+    const std::vector<std::size_t>& slices = d.pair_slices[static_cast<std::size_t>(set++)];
+    if (c.size() > 0) gather_slices(*comm_, slices, {field(c.state)}, d.buffer);
+  });
+  set = 0;
+  state_.contacts.for_each_wall_set([&](WallContacts& c) {
+    const std::vector<std::size_t>& slices = d.wall_slices[static_cast<std::size_t>(set++)];
+    if (c.size() > 0) gather_slices(*comm_, slices, {field(c.state)}, d.buffer);
+  });
+}
+
+const WorldState& World::state() const {
+  // The history is a restart file's alone (and a rebuild's): gathered when asked for.
+  if (spread() && !domains_->history) const_cast<World*>(this)->synchronise_history();
+  return state_;
 }
 
 void World::global_max(double* values, std::size_t count) {

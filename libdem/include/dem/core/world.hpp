@@ -124,7 +124,7 @@ class World {
   ///
   /// Between calls of step(), and when an every-N-steps callback runs, every process holds the
   /// whole state (particles, contacts, walls), so queries, outputs and restart files work as
-  /// in one process. During a step, controllers see walls and clumps; particles are current only
+  /// in one process (the contacts' history is gathered when state() asks for it). During a step, controllers see walls and clumps; particles are current only
   /// in the process's own subdomain and its ghosts. One process (or none): nothing changes.
   void spread_over(std::shared_ptr<parallel::DomainComm> comm);
   /// Processes this World is spread over (1 unless spread_over), and this one's number.
@@ -175,8 +175,10 @@ class World {
   void rebuild_now(bool resort);
 
   // --- the state as data (restart files: io/world_state.hpp) --------------------------------
-  /// Everything a restart file holds (WorldState).
-  const WorldState& state() const { return state_; }
+  /// Everything a restart file holds (WorldState). On a World spread over processes this gathers
+  /// the contacts' history, so every process calls it at the same point (as the apps' protocols,
+  /// which run the same code on every rank, do).
+  const WorldState& state() const;
   /// Replaces the state with `state`, which io::read_world_state has read and checked against the
   /// contact models set now: its lists are trusted as they are. An automatic time step more than
   /// 10 % above safety x the critical estimate of the models set now (stiffer parameters than the
@@ -214,8 +216,10 @@ class World {
   void share_contact_results(double local_worst_ratio);
   /// After integration: the ghosts' positions and velocities from their owners.
   void share_ghosts();
-  /// Every process gets the whole state (particles and contact records) from their owners.
+  /// Every process gets every particle and contact record from their owners (not the history).
   void synchronise();
+  /// Every process gets every contact's history (before a rebuild, or for state()).
+  void synchronise_history();
   /// The largest of `values` over the processes (element by element, in place).
   void global_max(double* values, std::size_t count);
   /// The worst overlap over all processes (after share_contact_results), with the whole state
