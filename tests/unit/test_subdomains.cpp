@@ -177,3 +177,51 @@ TEST_CASE("subdomains: a state saved on 2 processes continues on 3 as the serial
   const SpreadRun second = run_spread(3, 500, &first.state);
   require_same_state(second.state, serial.state());
 }
+
+TEST_CASE("subdomains: a step that leaves only walls whole refuses particle reads until the state is gathered",
+          "[subdomains]") {
+  World half(cell_settings()), serial(cell_settings());
+  build_cell(half, false);
+  build_cell(serial, false);
+  half.step(100);
+  serial.step(200);
+  ThreadDomains hub(2);
+  std::mutex m;
+  std::vector<Vec3> positions;
+  int refused = 0, refused_in_controller = 0, walls_ok = 0;
+  hub.run([&](const std::shared_ptr<parallel::DomainComm>& comm) {
+    World world(cell_settings());
+    build_cell(world, false);
+    world.spread_over(comm);
+    world.step(100, World::StepEnd::WallsAndClumps);
+    bool threw = false;
+    try {
+      (void)world.particles();
+    } catch (const std::logic_error&) {
+      threw = true;
+    }
+    const bool walls_whole = world.wall(1).force == half.wall(1).force && world.wall(1).displacement == half.wall(1).displacement;
+    world.gather_state();
+    world.step(100);
+    const std::vector<Vec3> x = world.particles().x;
+    // A controller reads particles during a step, where each process holds only its own.
+    bool controller_threw = false;
+    world.add_controller([&controller_threw](World& w) {
+      try {
+        (void)w.particles();
+      } catch (const std::logic_error&) {
+        controller_threw = true;
+      }
+    });
+    world.step(2);
+    std::lock_guard lock(m);
+    refused += threw;
+    refused_in_controller += controller_threw;
+    walls_ok += walls_whole;
+    if (comm->rank() == 0) positions = x;
+  });
+  CHECK(refused == 2);
+  CHECK(walls_ok == 2);  // walls and clumps are whole on every process
+  CHECK(refused_in_controller == 2);
+  CHECK(positions == serial.particles().x);
+}

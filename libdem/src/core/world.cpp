@@ -124,7 +124,7 @@ void World::add_callback(std::int64_t every, std::function<void(World&)> callbac
   callbacks_.emplace_back(every, std::move(callback));
 }
 
-void World::step(std::int64_t n) {
+void World::step(std::int64_t n, StepEnd end) {
   for (std::int64_t s = 0; s < n; ++s) {
     auto t0 = std::chrono::steady_clock::now();
     if (BroadPhase::needs_rebuild(state_.rebuild)) {
@@ -141,6 +141,7 @@ void World::step(std::int64_t n) {
     }
     if (state_.clock.dt <= 0.0) update_time_step();
     timing_.rebuilds += seconds_since(t0);
+    copies_go_stale();
     compute_forces();  // times its own parts
     const auto t1 = std::chrono::steady_clock::now();
     for (auto& controller : controllers_) controller(*this);
@@ -155,7 +156,7 @@ void World::step(std::int64_t n) {
     // Callbacks (and the caller, after the last step) see the whole state on every process.
     bool due = false;
     for (const auto& [every, callback] : callbacks_) due = due || state_.clock.steps % every == 0;
-    if (due || s + 1 == n) synchronise();
+    if (due || (s + 1 == n && end == StepEnd::Whole)) synchronise();
     timing_.communication += seconds_since(t3);
     for (auto& [every, callback] : callbacks_)
       if (state_.clock.steps % every == 0) callback(*this);

@@ -229,8 +229,19 @@ void World::plan_domains() {
   d.planned = true;
 }
 
+void World::require_whole(const char* what) const {
+  if (!domains_ || !domains_->planned || domains_->whole) return;
+  throw std::logic_error(std::string("World::") + what + " read on a World spread over " + std::to_string(domains_->ranks) +
+                         " processes between a step that ended with StepEnd::WallsAndClumps (or, during a step, from a "
+                         "controller) and the next gather_state(): each process holds only its own particles then");
+}
+
 void World::forget_domains() {
   if (domains_) domains_->planned = false;
+}
+
+void World::copies_go_stale() {
+  if (domains_) domains_->whole = domains_->history = false;
 }
 
 void World::keep_local_near() {
@@ -353,7 +364,6 @@ void World::share_contact_results(double local_worst_ratio) {
 void World::share_ghosts() {
   if (!spread()) return;
   detail::Subdomains& d = *domains_;
-  d.whole = d.history = false;
   ParticleStore& p = state_.particles;
   for (std::size_t r = 0; r < d.send.size(); ++r) {
     std::byte* at = d.send_bytes[r].data();
@@ -416,6 +426,7 @@ void World::synchronise_history() {
 }
 
 const WorldState& World::state() const {
+  require_whole("state()");
   // The history is a restart file's alone (and a rebuild's): gathered when asked for.
   if (spread() && !domains_->history) const_cast<World*>(this)->synchronise_history();
   return state_;

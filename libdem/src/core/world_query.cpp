@@ -10,6 +10,7 @@
 namespace dem {
 
 const PairContacts& World::pair_contacts(ContactKind kind) const {
+  require_whole("pair_contacts()");
   require(kind != ContactKind::BallFacet, "pair_contacts kind", to_string(kind), "ball-ball or ball-pebble");
   return kind == ContactKind::BallBall ? state_.contacts.ball_ball : state_.contacts.ball_pebble;
 }
@@ -47,10 +48,12 @@ void visit_touching(const WallContacts& c, const ParticleStore& p, const Contact
 }  // namespace
 
 void World::for_each_contact(const ContactVisitor& visit) const {
+  require_whole("for_each_contact()");
   state_.contacts.for_each_set([&](const auto& set) { visit_touching(set, state_.particles, visit); });
 }
 
 std::size_t World::contact_count(ContactKind kind) const {
+  require_whole("contact_count()");
   std::size_t count = 0;
   state_.contacts.for_each_set([&](const auto& set) {
     if (WorldContacts::law_kind(set) != kind) return;
@@ -61,6 +64,7 @@ std::size_t World::contact_count(ContactKind kind) const {
 }
 
 double World::kinetic_energy() const {
+  require_whole("kinetic_energy()");
   const ParticleStore& p = state_.particles;
   double energy = 0.0;
   for (std::size_t i = 0; i < p.size(); ++i) {
@@ -72,6 +76,7 @@ double World::kinetic_energy() const {
 }
 
 double World::unbalanced_force_ratio() const {
+  require_whole("unbalanced_force_ratio()");
   const ParticleStore& p = state_.particles;
   double unbalanced = 0.0;
   std::size_t balls = 0;

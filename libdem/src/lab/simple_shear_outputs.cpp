@@ -212,11 +212,17 @@ void SimpleShearTest::record_history() {
 }
 
 void SimpleShearTest::record_outputs(bool force) {
-  if (force || path_.strain() >= next_output_strain_ - 1e-12) {
+  const double strain = path_.strain();
+  const bool row = force || strain >= next_output_strain_ - 1e-12;
+  const bool fabric = next_fabric_ < config_.output.fabric_strains.size() &&
+                      strain >= config_.output.fabric_strains[next_fabric_] - 1e-12;
+  const bool snapshot = next_snapshot_ < config_.output.snapshot_strains.size() &&
+                        strain >= config_.output.snapshot_strains[next_snapshot_] - 1e-12;
+  if (row || fabric || snapshot) world_->gather_state();  // after a step that left only the walls whole
+  if (row) {
     record_history();
     while (next_output_strain_ <= path_.strain() + 1e-12) next_output_strain_ += config_.output.every_strain;
   }
-  const double strain = path_.strain();
   while (next_fabric_ < config_.output.fabric_strains.size() && strain >= config_.output.fabric_strains[next_fabric_] - 1e-12) {
     fabric_->record(*world_, label_for(config_.output.fabric_strains[next_fabric_]), strain);
     ++next_fabric_;
@@ -230,6 +236,7 @@ void SimpleShearTest::record_outputs(bool force) {
 void SimpleShearTest::maybe_save_restart() {
   if (world_->step_count() - last_restart_step_ < config_.output.restart_every_steps) return;
   last_restart_step_ = world_->step_count();
+  world_->gather_state();  // after a step that left only the walls whole
   save_restart(out_dir_ / "restart.restart");
 }
 

@@ -89,8 +89,14 @@ class World {
   const ContactModel* contact_model(ContactKind kind) const { return models_[static_cast<std::size_t>(kind)].get(); }
 
   // --- running ------------------------------------------------------------------------------
-  /// Advances n steps.
-  void step(std::int64_t n = 1);
+  /// What every process holds when step() returns, in a World spread over processes.
+  enum class StepEnd {
+    Whole,          ///< everything: particles, contacts, walls, clumps (one gather of the state)
+    WallsAndClumps  ///< walls and clumps only, for a caller that reads nothing else before its
+                    ///< next step or gather_state(); reading particles or contacts then throws
+  };
+  /// Advances n steps. In one process `end` changes nothing.
+  void step(std::int64_t n = 1, StepEnd end = StepEnd::Whole);
   /// Steps until `done(world)` is true, checking every `check_every` steps; returns false if
   /// `max_steps` were taken first.
   bool run_until(const std::function<bool(const World&)>& done, std::int64_t check_every, std::int64_t max_steps);
@@ -122,22 +128,32 @@ class World {
   /// serial order, so every process steps the same walls and clumps, and the results are the
   /// serial ones bit for bit for any number of processes and threads.
   ///
-  /// Between calls of step(), and when an every-N-steps callback runs, every process holds the
-  /// whole state (particles, contacts, walls), so queries, outputs and restart files work as
-  /// in one process (the contacts' history is gathered when state() asks for it). During a step, controllers see walls and clumps; particles are current only
-  /// in the process's own subdomain and its ghosts. One process (or none): nothing changes.
+  /// Between calls of step() (unless a step ended with StepEnd::WallsAndClumps) and when an
+  /// every-N-steps callback runs, every process holds the whole state (particles, contacts,
+  /// walls), so queries, outputs and restart files work as in one process; the contacts' history
+  /// is gathered when state() asks for it. During a step, controllers see walls and clumps:
+  /// reading particles or contacts there throws. One process (or none): nothing changes.
   void spread_over(std::shared_ptr<parallel::DomainComm> comm);
   /// Processes this World is spread over (1 unless spread_over), and this one's number.
   int ranks() const;
   int rank() const;
+  /// Every process gets the whole state now (after a step that ended with WallsAndClumps; a
+  /// collective call). Nothing to do in one process, or when the state is whole already.
+  void gather_state() { synchronise(); }
   /// This process's particles (storage indices [first, second)) since the last rebuild; all of
   /// them in one process.
   std::pair<std::size_t, std::size_t> owned_range() const;
 
   // --- state ---------------------------------------------------------------------------------
-  const ParticleStore& particles() const { return state_.particles; }
+  const ParticleStore& particles() const {
+    if (domains_) require_whole("particles()");  // spread over processes only
+    return state_.particles;
+  }
   /// Mutable access; call invalidate_contacts() after moving particles or changing radii by hand.
-  ParticleStore& particles() { return state_.particles; }
+  ParticleStore& particles() {
+    if (domains_) require_whole("particles()");  // spread over processes only
+    return state_.particles;
+  }
   void invalidate_contacts() { state_.rebuild.need_rebuild = true; }
   const std::vector<Clump>& clumps() const { return state_.clumps; }
   std::vector<Clump>& clumps() { return state_.clumps; }
@@ -168,7 +184,10 @@ class World {
 
   // --- internals exposed for checkpoints and tests --------------------------------------------
   const PairContacts& pair_contacts(ContactKind kind) const;
-  const WallContacts& wall_contacts() const { return state_.contacts.ball_facet; }
+  const WallContacts& wall_contacts() const {
+    if (domains_) require_whole("wall_contacts()");
+    return state_.contacts.ball_facet;
+  }
   std::int64_t rebuild_count() const { return state_.rebuild.rebuilds; }
   std::int64_t near_refresh_count() const { return broad_phase_.near_refresh_count(); }
   /// Forces a neighbour-list rebuild with re-sorting now (tests of history preservation).
@@ -204,11 +223,16 @@ class World {
   [[noreturn]] void fail(const std::string& what, std::size_t particle, std::optional<ContactKind> kind = std::nullopt) const;
 
   // Spread over processes (world_domains.cpp); each does nothing in one process.
+  /// std::logic_error naming `what` when a spread World is read between a step that ended with
+  /// StepEnd::WallsAndClumps (or, during a step, from a controller) and the next gather.
+  void require_whole(const char* what) const;
   bool spread() const { return domains_ != nullptr; }
   /// Subdomains, ghosts and slices from the lists now (after a rebuild or a load).
   void plan_domains();
   /// The lists changed (a rebuild or a load): plan again before the next forces.
   void forget_domains();
+  /// A step starts: other processes' particles and contacts held here go stale until a gather.
+  void copies_go_stale();
   /// Keeps in the near lists only the contacts this process computes.
   void keep_local_near();
   /// After the contact loops: the pebbles' sums and the wall contacts' records of every process,
