@@ -5,7 +5,11 @@
 // once with the same law hidden behind a per-contact-only wrapper, and every particle must end
 // bit for bit where the other run left it. The blocks run the law's variant for the parameters'
 // dashpots (none, rate, any); the wrapper always takes the general formula: one section each.
-// The blocks run on every instruction set the processor has (AVX2, AVX-512), each compared.
+// The blocks run on every instruction set the processor has (AVX2, AVX-512), each compared. The
+// pile rests on a floor, a facet wall or an analytic plane: its ball-wall contacts run in blocks
+// too, and their records and the floor's force must match as well.
+#include <algorithm>
+
 #include <catch2/catch.hpp>
 
 #include "support/isa_scope.hpp"
@@ -32,10 +36,12 @@ struct RollingOneAtATime {
 static_assert(detail::LaneContactLaw<RollingLinearLaw>);
 static_assert(!detail::LaneContactLaw<RollingOneAtATime>);
 
+enum class Floor { facets, plane };
+
 /// Balls poured onto a floor under strong gravity, then the floor tilts by moving sideways:
 /// contacts load, slide (Coulomb cap) and roll (rolling cap).
 template <class Law>
-World pile(const typename Law::Params& params, double near_skin = 0.0) {
+World pile(const typename Law::Params& params, double near_skin = 0.0, Floor floor = Floor::facets) {
   WorldSettings s;
   s.gravity = Vec3(2000.0, 0.0, -5000.0);
   s.near_skin = near_skin;
@@ -44,7 +50,8 @@ World pile(const typename Law::Params& params, double near_skin = 0.0) {
     b.position.z() += 0.5e-3;
     world.add_ball(b);
   }
-  world.add_wall(floor_wall(0.0, 0.01));
+  world.add_wall(floor == Floor::facets ? floor_wall(0.0, 0.01)
+                                        : make_plane_wall("floor", Vec3::Zero(), -Vec3::UnitZ(), 4e-4));
   world.set_contact_model(ContactKind::BallBall, make_contact_model<Law>(params, "ball-ball"));
   world.set_contact_model(ContactKind::BallFacet, make_contact_model<Law>(params, "ball-facet"));
   world.step(6000);
@@ -75,8 +82,8 @@ ContactCensus census(const World& world, const RollingLinearLaw::Params& params)
 
 /// The pile with blocks on each SIMD instruction set this processor has, against one contact at
 /// a time. Returns the run on the best one.
-World require_same_bits_on_every_isa(const RollingLinearLaw::Params& params) {
-  const World single = pile<RollingOneAtATime>(params);
+World require_same_bits_on_every_isa(const RollingLinearLaw::Params& params, Floor floor = Floor::facets) {
+  const World single = pile<RollingOneAtATime>(params, 0.0, floor);
   const detail::BlockIsa best = detail::detected_block_isa();
   if (best == detail::BlockIsa::scalar)
     WARN("this processor takes one contact at a time for every law: both runs use the same loop");
@@ -85,9 +92,9 @@ World require_same_bits_on_every_isa(const RollingLinearLaw::Params& params) {
     const BlockIsaScope scope(isa);
     INFO("blocks on instruction set " << static_cast<int>(isa) << " (1: AVX2, 2: AVX-512)");
     REQUIRE(detail::block_isa() == isa);
-    require_same_bits(pile<RollingLinearLaw>(params), single);
+    require_same_bits(pile<RollingLinearLaw>(params, 0.0, floor), single);
   }
-  return pile<RollingLinearLaw>(params);
+  return pile<RollingLinearLaw>(params, 0.0, floor);
 }
 
 }  // namespace
@@ -116,6 +123,17 @@ TEST_CASE("contact loops: blocks in SIMD lanes and one contact at a time give th
     params.normal_damping_rate = 1e4;
     params.shear_damping_rate = 5e3;
     require_same_bits_on_every_isa(params);
+  }
+  SECTION("on an analytic plane (the peers' walls)") {
+    auto params = RollingLinearLaw::Params::deformable(modulus_ball, 1.5, 0.3, 0.1);
+    params.normal_damping_ratio = 0.2;
+    const World blocks = require_same_bits_on_every_isa(params, Floor::plane);
+    // the floor carries the pile: a third or more of its balls touch it, sliding as it moves
+    const WallContacts& floor = blocks.state().contacts.ball_surface;
+    const auto touching = std::count_if(floor.normal_force.begin(), floor.normal_force.end(), [](double f) { return f > 0; });
+    INFO("balls on the plane " << touching);
+    REQUIRE(touching > 30);
+    REQUIRE(blocks.walls().front().force.z() < 0.0);
   }
 }
 

@@ -163,7 +163,7 @@ TEST_CASE("determinism: one and two threads give bit-identical trajectories", "[
   REQUIRE(two.threads() == 2);
   REQUIRE(static_cast<std::int64_t>(two.pair_contacts(ContactKind::BallBall).size()) > min_parallel_items);
   const auto triangle_tests = static_cast<std::int64_t>(two.wall_contacts().triangles.size());
-  REQUIRE(detail::triangle_test_weight * triangle_tests > min_parallel_items);  // compute_walls on two threads
+  REQUIRE(triangle_test_weight * triangle_tests > min_parallel_items);  // compute_walls on two threads
   CHECK(two.wall(0).contact_count > 200);
   CHECK(one.wall(0).force == two.wall(0).force);
   CHECK(one.wall(1).force == two.wall(1).force);

@@ -72,6 +72,11 @@ inline Vec3 second_torque(const Vec3& branch, const Vec3& force, const Vec3& tor
   return -branch.cross(force) - torque_first;
 }
 
+/// A ball-facet candidate's closest-point search on one triangle costs about this many pair
+/// candidates: the wall loop weighs its triangle tests by it when choosing threads, and a spread
+/// World when it balances its subdomains.
+inline constexpr std::int64_t triangle_test_weight = 4;
+
 /// Ball-wall candidates: one per (ball, wall). For mesh walls, with the wall's triangles near that
 /// ball: a ball gets a single contact per wall at the closest point of those triangles, so a ball
 /// on the shared edge of two triangles is never counted twice and keeps its history across the

@@ -10,6 +10,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <utility>
 #if defined(_OPENMP)
 #include <omp.h>
@@ -266,41 +267,38 @@ DEM_INDEPENDENT_ITERATIONS
 
 inline bool lanes_worthwhile() { return block_isa() != BlockIsa::scalar; }
 
-/// One block of contacts in the law's variant `Variant`, compiled for one instruction set.
-template <class Law>
-using BlockKernel = void (*)(const typename Law::Params&, PairBlock<typename Law::State>&, int, double, ContactKind);
-template <LaneContactLaw Law, int Variant>
-DEM_TARGET_AVX2 void block_avx2(const typename Law::Params& params, PairBlock<typename Law::State>& b, int count,
-                                double dt, ContactKind kind) {
+/// One block of contacts (a PairBlock, or a WallBlock of wall_loops.hpp) in the law's variant
+/// `Variant`, compiled for one instruction set.
+template <class Law, class Block>
+using BlockKernel = void (*)(const typename Law::Params&, Block&, int, double, ContactKind);
+template <LaneContactLaw Law, int Variant, class Block>
+DEM_TARGET_AVX2 void block_avx2(const typename Law::Params& params, Block& b, int count, double dt, ContactKind kind) {
   block_lanes<Law, Variant>(params, b, count, dt, kind);
 }
-template <LaneContactLaw Law, int Variant>
-DEM_TARGET_AVX512 void block_avx512(const typename Law::Params& params, PairBlock<typename Law::State>& b, int count,
-                                    double dt, ContactKind kind) {
+template <LaneContactLaw Law, int Variant, class Block>
+DEM_TARGET_AVX512 void block_avx512(const typename Law::Params& params, Block& b, int count, double dt,
+                                    ContactKind kind) {
   block_lanes<Law, Variant>(params, b, count, dt, kind);
 }
 
 /// The block kernel for these parameters (the law's lane variant) on this instruction set.
-template <LaneContactLaw Law, std::size_t... V>
-BlockKernel<Law> block_kernel_among(const typename Law::Params& params, BlockIsa isa, std::index_sequence<V...>) {
+template <LaneContactLaw Law, class Block, std::size_t... V>
+BlockKernel<Law, Block> block_kernel_among(const typename Law::Params& params, BlockIsa isa, std::index_sequence<V...>) {
   constexpr bool variants = VariantLaneLaw<Law>;
-  static constexpr BlockKernel<Law> avx2[] = {&block_avx2<Law, variants ? static_cast<int>(V) : -1>...};
-  static constexpr BlockKernel<Law> avx512[] = {&block_avx512<Law, variants ? static_cast<int>(V) : -1>...};
+  static constexpr BlockKernel<Law, Block> avx2[] = {&block_avx2<Law, variants ? static_cast<int>(V) : -1, Block>...};
+  static constexpr BlockKernel<Law, Block> avx512[] = {&block_avx512<Law, variants ? static_cast<int>(V) : -1, Block>...};
   std::size_t variant = 0;
   if constexpr (variants) variant = static_cast<std::size_t>(Law::lane_variant(params));
   return isa == BlockIsa::avx512 ? avx512[variant] : avx2[variant];
 }
-template <LaneContactLaw Law>
-BlockKernel<Law> block_kernel(const typename Law::Params& params, BlockIsa isa) {
+template <LaneContactLaw Law, class Block>
+BlockKernel<Law, Block> block_kernel(const typename Law::Params& params, BlockIsa isa) {
   if constexpr (VariantLaneLaw<Law>)
-    return block_kernel_among<Law>(params, isa, std::make_index_sequence<static_cast<std::size_t>(Law::lane_variants)>{});
+    return block_kernel_among<Law, Block>(params, isa,
+                                          std::make_index_sequence<static_cast<std::size_t>(Law::lane_variants)>{});
   else
-    return block_kernel_among<Law>(params, isa, std::make_index_sequence<1>{});
+    return block_kernel_among<Law, Block>(params, isa, std::make_index_sequence<1>{});
 }
-
-/// A ball-facet candidate's closest-point search on one triangle costs about this many pair
-/// candidates: compute_walls weighs its triangle tests by it when choosing threads.
-inline constexpr std::int64_t triangle_test_weight = 4;
 
 /// pair_range for a lane law: the same near candidates, block by block. Sums into particles happen
 /// in contact order, as in pair_range, so both give the same bits.
@@ -321,7 +319,7 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
   double* normal_force = c.normal_force.data();
   std::uint8_t* touching = c.touching.data();
   PairBlock<State> b;
-  const BlockKernel<Law> compute_block = block_kernel<Law>(params, block_isa());
+  const BlockKernel<Law, PairBlock<State>> compute_block = block_kernel<Law, PairBlock<State>>(params, block_isa());
   for (std::int64_t a = begin; a < end;) {
     // The touching candidates of the next stretch, in order, without a branch on which ones
     // touch (three in four near candidates do, in no predictable pattern): every candidate is
@@ -429,111 +427,11 @@ void compute_pairs(const typename Law::Params& params, PairContacts& c, const Ke
   }
 }
 
-/// The wall loop over c's candidates: `closest(k, centre, best_sq)` gives the closest point of
-/// candidate k's wall to the ball's centre and its squared distance; the law and the records are
-/// the same for every wall geometry. `work` weighs the candidates for the thread count.
-template <ContactLaw Law, class Closest>
-void wall_loop(const typename Law::Params& params, WallContacts& c, const KernelContext& ctx, OverlapMonitor& worst,
-               std::int64_t work, const Closest& closest_of) {
-  using State = typename Law::State;
-  const ParticleStore& p = *ctx.particles;
-  const std::vector<Wall>& walls = *ctx.walls;
-  const std::int64_t count = static_cast<std::int64_t>(c.size());
-  c.force.resize(c.size());
-  c.torque_ball.resize(c.size());
-  c.point.resize(c.size());
-  c.moment.resize(c.size());
-  c.normal_force.resize(c.size());
-  c.normal_stiffness.resize(c.size());
-  // Each contact writes only its own records: the same results for any thread count.
-#pragma omp parallel num_threads(threads_for(work, ctx.threads))
-  {
-    OverlapMonitor local;
-#pragma omp for schedule(static)
-    for (std::int64_t k = 0; k < count; ++k) {
-      if (c.ball[k] < ctx.owned_begin || c.ball[k] >= ctx.owned_end) continue;  // another process's ball
-      const auto b = static_cast<std::size_t>(c.ball[k]);
-      const Wall& wall = walls[static_cast<std::size_t>(c.wall[k])];
-      const Vec3& centre = p.x[b];
-      double best_sq = std::numeric_limits<double>::infinity();
-      const Vec3 closest = closest_of(k, wall, centre, best_sq);
-      State& state = state_at<State>(c.state, static_cast<std::size_t>(k));
-      const double r = p.radius[b];
-      if (best_sq >= r * r || best_sq == 0.0) {
-        state = State{};
-        c.force[k].setZero();
-        c.torque_ball[k].setZero();
-        c.moment[k].setZero();
-        c.point[k] = centre;  // defined bytes in restart files, and a harmless point if read
-        c.normal_force[k] = 0.0;
-        c.normal_stiffness[k] = 0.0;
-        continue;
-      }
-      const double dist = std::sqrt(best_sq);
-      ContactKinematics kin;
-      kin.normal = (closest - centre) * (1.0 / dist);
-      kin.overlap = r - dist;
-      const Vec3 arm = (r - 0.5 * kin.overlap) * kin.normal;  // x_c - x_ball
-      kin.relative_velocity = wall.velocity - (p.v[b] + p.w[b].cross(arm));
-      kin.relative_angular_velocity = -p.w[b];
-      kin.radius_1 = r;
-      kin.radius_2 = 0.0;
-      kin.effective_radius = r;
-      kin.effective_mass = 1.0 / p.inv_mass[b];
-      kin.dt = ctx.dt;
-      kin.kind = ContactKind::BallFacet;
-      const ContactForce out = Law::force(params, kin, state);
-      c.force[k] = out.force;
-      c.torque_ball[k] = -arm.cross(out.force) - out.moment;
-      c.point[k] = centre + arm;
-      c.moment[k] = out.moment;
-      c.normal_force[k] = out.normal_force;
-      c.normal_stiffness[k] = out.normal_stiffness;
-      const double ratio = kin.overlap / r;
-      if (ratio > local.ratio) local = OverlapMonitor{ratio, k};
-    }
-#pragma omp critical(dem_overlap_monitor)
-    merge_worst(worst, local);
-  }
-}
+}  // namespace dem::detail
 
-template <ContactLaw Law>
-void compute_walls(const typename Law::Params& params, WallContacts& c, const KernelContext& ctx,
-                   OverlapMonitor& worst) {
-  if (c.surfaces) {
-    // One closest-point formula per candidate, about one pair candidate's work.
-    wall_loop<Law>(params, c, ctx, worst, static_cast<std::int64_t>(c.size()),
-                   [](std::int64_t, const Wall& wall, const Vec3& centre, double& best_sq) {
-                     const Vec3 closest = wall.surface.closest_point(centre);
-                     best_sq = (closest - centre).squaredNorm();
-                     return closest;
-                   });
-    return;
-  }
-  // Worth threads by the triangles tested, not the contacts: a ball near a curved wall tests
-  // several, each a closest-point search (triangle_test_weight). (The 14k benchmark cylinder has
-  // 3,400 candidates and 9,500 triangle tests; counted by candidates they ran on one thread, a
-  // fifth of a two-thread step.)
-  const auto triangle_tests = static_cast<std::int64_t>(c.triangles.size());
-  wall_loop<Law>(params, c, ctx, worst, triangle_test_weight * triangle_tests,
-                 [&c](std::int64_t k, const Wall& wall, const Vec3& centre, double& best_sq) {
-                   // The closest point over the candidate triangles: one contact per ball and wall.
-                   Vec3 closest = Vec3::Zero();
-                   for (std::int32_t t = c.triangle_begin[k]; t < c.triangle_end[k]; ++t) {
-                     const auto& tri = wall.mesh.triangles[static_cast<std::size_t>(c.triangles[static_cast<std::size_t>(t)])];
-                     const geometry::ClosestPoint cp = geometry::closest_point_on_triangle(
-                         centre, wall.mesh.vertices[static_cast<std::size_t>(tri[0])],
-                         wall.mesh.vertices[static_cast<std::size_t>(tri[1])],
-                         wall.mesh.vertices[static_cast<std::size_t>(tri[2])]);
-                     const double dsq = (cp.point - centre).squaredNorm();
-                     if (dsq < best_sq) {
-                       best_sq = dsq;
-                       closest = cp.point;
-                     }
-                   }
-                   return closest;
-                 });
-}
+#include <dem/core/wall_loops.hpp>
+
+namespace dem::detail {
 
 /// One address per law type: the type tag of its contact history (StateBuffer::law).
 template <ContactLaw Law>
