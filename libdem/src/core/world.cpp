@@ -183,14 +183,14 @@ void World::rebuild_now(bool resort) {
 
 void World::rebuild(bool resort) {
   broad_phase_.rebuild(state_, models_, threads_, resort);
-  gather_plan_stale_ = true;
+  share_plan_stale_ = true;
   forget_domains();
   if (state_.settings.time_step <= 0.0 && state_.clock.dt > 0.0) update_time_step();
 }
 
 void World::restore(WorldState state) {
   state_ = std::move(state);
-  gather_plan_stale_ = true;  // the restored contact lists are not those the plan was made for
+  share_plan_stale_ = true;  // the restored contact lists are not those the plan was made for
   forget_domains();
   broad_phase_.invalidate_near();
   // The file's time step belongs to the stiffness it was written with. Contact models that are

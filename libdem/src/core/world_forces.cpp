@@ -1,9 +1,9 @@
 // Contact forces of one step: each contact type runs its own law-typed loop, adding each contact's
 // force and torque into its particles' sums in contact order. With several threads, each takes a
-// contiguous share of the contacts; a particle with contacts in two shares is left out of the loops
-// and summed afterwards from per-contact records along its incidence list, in the same contact
-// order. So every particle's sum is the serial one, bit for bit, for any thread count, and only the
-// few particles on the shares' borders pay for a gather.
+// contiguous share of the contacts; a particle with contacts in two shares gets the first share's
+// parts directly and the later shares' parts afterwards, in share order (contact_loops.hpp). So
+// every particle's sum is the serial one, bit for bit, for any thread count, and only the few
+// particles on the shares' borders cost a deferred add.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -22,31 +22,15 @@ const ContactModel& model_for(const std::shared_ptr<const ContactModel>& model, 
   return *model;
 }
 
-void gather(const PairContacts& c, const std::vector<Vec3>& x, std::size_t i, Vec3& force, Vec3& torque) {
-  const std::vector<std::int32_t>& offsets = c.incidence_offsets;
-  const std::vector<std::int32_t>& entries = c.incidence_entries;
-  for (std::int32_t e = offsets[i]; e < offsets[i + 1]; ++e) {
-    const auto entry = static_cast<std::size_t>(entries[static_cast<std::size_t>(e)]);
-    const std::size_t k = entry >> 1;
-    if (entry & 1U) {  // i is piece 2
-      force += c.force[k];
-      torque += second_torque(x[i] - x[static_cast<std::size_t>(c.first[k])], c.force[k], c.torque_first[k]);
-    } else {
-      force -= c.force[k];
-      torque += c.torque_first[k];
-    }
-  }
-}
-
 }  // namespace
 
-void World::plan_gather() {
+void World::plan_shares() {
   // Re-planned after every rebuild and every few hundred steps: contacts that open or close move
   // the work between shares. The plan never changes a result, only who computes what.
   constexpr std::int64_t replan_every = 250;
-  if (!gather_plan_stale_ && gathered_.size() == state_.particles.size() && state_.clock.steps - gather_planned_at_ < replan_every) return;
+  if (!share_plan_stale_ && shared_.size() == state_.particles.size() && state_.clock.steps - shares_planned_at_ < replan_every) return;
   const std::size_t n = state_.particles.size();
-  gathered_.assign(n, 0);
+  shared_.assign(n, 0);
   std::vector<std::int32_t> owner;
   state_.contacts.for_each_pair_set([&](PairContacts& c) {
     const auto count = static_cast<std::int64_t>(c.size());
@@ -76,14 +60,11 @@ void World::plan_gather() {
         for (const std::int32_t piece : {c.first[static_cast<std::size_t>(k)], c.second[static_cast<std::size_t>(k)]}) {
           std::int32_t& o = owner[static_cast<std::size_t>(piece)];
           if (o < 0) o = t;
-          else if (o != t) gathered_[static_cast<std::size_t>(piece)] = 1;
+          else if (o != t) shared_[static_cast<std::size_t>(piece)] = 1;
         }
   });
-  gathered_list_.clear();
-  for (std::size_t i = 0; i < n; ++i)
-    if (gathered_[i]) gathered_list_.push_back(static_cast<std::int32_t>(i));
-  gather_plan_stale_ = false;
-  gather_planned_at_ = state_.clock.steps;
+  share_plan_stale_ = false;
+  shares_planned_at_ = state_.clock.steps;
 }
 
 void World::compute_forces() {
@@ -108,8 +89,8 @@ void World::compute_forces() {
   ctx.scatter_torque = p.t.data();
   const bool parallel = threads_for(static_cast<std::int64_t>(contacts.ball_ball.size()), threads_) > 1;
   if (parallel) {
-    plan_gather();
-    ctx.gathered = gathered_.data();
+    plan_shares();
+    ctx.shared = shared_.data();
   }
   auto lap = std::chrono::steady_clock::now();
   const auto time_into = [&lap](double& part) {
@@ -129,18 +110,6 @@ void World::compute_forces() {
                                                 : timing_.ball_facet);
     if (set_worst.ratio > worst.monitor.ratio) worst = WorstOverlap{set_worst, &set};
   });
-
-  if (parallel) {
-    const auto gathered = static_cast<std::int64_t>(gathered_list_.size());
-#pragma omp parallel for schedule(static) num_threads(threads_for(16 * gathered, threads_))
-    for (std::int64_t s = 0; s < gathered; ++s) {
-      const auto i = static_cast<std::size_t>(gathered_list_[static_cast<std::size_t>(s)]);
-      Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
-      contacts.for_each_pair_set([&](const PairContacts& set) { gather(set, p.x, i, force, torque); });
-      p.f[i] = force;
-      p.t[i] = torque;
-    }
-  }
 
   time_into(timing_.force_sums);
   share_contact_results(worst.monitor.ratio);  // spread over processes: pebbles and wall contacts of every subdomain

@@ -48,14 +48,15 @@ struct KernelContext {
   double dt = 0.0;  // s
   int threads = 1;
   /// Per-particle sums (N, N m) that the pair loops add each contact's force and torque into,
-  /// in contact order. With several threads (`gathered` set), thread t takes the contacts
+  /// in contact order. With several threads (`shared` set), thread t takes the contacts
   /// PairContacts::shares[t] to shares[t + 1], and a particle whose contacts fall in more than one
-  /// share is marked in `gathered`: the loops skip it (no two threads ever write one particle) and
-  /// leave per-contact records that the engine sums for it afterwards, in the same contact order.
-  /// Every particle's sum is then the serial one, bit for bit, for any thread count.
+  /// share is marked in `shared`: the first share adds into it directly, the later ones leave
+  /// their parts in PairContacts::deferred, which are added after the loop, share by share (no
+  /// two threads ever write one particle). Every particle's sum is then the serial one, bit for
+  /// bit, for any thread count.
   Vec3* scatter_force = nullptr;
   Vec3* scatter_torque = nullptr;
-  const std::uint8_t* gathered = nullptr;  // null: one thread, nothing gathered
+  const std::uint8_t* shared = nullptr;  // null: one thread, nothing shared
   /// A World spread over processes (World::spread_over) computes the wall contacts of its own
   /// balls only, storage indices [owned_begin, owned_end); the others keep their records.
   std::int64_t owned_begin = 0;

@@ -5,7 +5,7 @@
 // The history is a byte buffer with one law State per candidate, created and copied only through
 // the law-typed ContactModel (contact_model.hpp). A candidate that is not touching holds a fresh
 // State, so history lives exactly as long as the contact (docs/model.md 1.1: history resets when the
-// pieces separate). Forces are written per contact and then gathered per particle in a fixed
+// pieces separate). Forces are written per contact and added into the particles in contact
 // order, which makes results independent of the thread count.
 #pragma once
 
@@ -14,6 +14,7 @@
 #include <vector>
 
 #include <dem/contact/kinematics.hpp>
+#include <dem/contact/lanes.hpp>
 #include <dem/core/math.hpp>
 
 namespace dem {
@@ -30,16 +31,22 @@ struct StateBuffer {
   const std::byte* at(std::size_t k) const { return bytes.data() + k * stride; }
 };
 
+/// One contact's part of a particle's force and torque sums, left by a thread for the engine to
+/// add after the earlier threads' parts (the serial contact order): piece 1 gets -force, piece 2
+/// +force.
+struct DeferredSum {
+  std::int32_t particle;
+  bool first_piece;
+  Lane3 force;   // N, on piece 2
+  Lane3 torque;  // N m, on this particle about its centre
+};
+
 /// Ball-ball or ball-pebble candidates. Piece 1 (`first`) is always a ball.
 struct PairContacts {
   ContactKind kind = ContactKind::BallBall;
   std::vector<std::int32_t> first, second;  // storage indices of the two pieces
   StateBuffer state;
   std::vector<Vec3> force;           // N, on piece 2 (piece 1 gets -force)
-  /// N m, total torque on piece 1 about its centre (piece 2: second_torque). Scratch of a step
-  /// that gathers (several threads): filled only for the gathered particles' contacts, empty on
-  /// one thread, not in restart files. Use force and the arms for a contact's torques, not this.
-  std::vector<Vec3> torque_first;
   std::vector<double> normal_force;  // N, elastic, compression positive; 0 if not touching
   /// 1 where normal_force or force is non-zero: a contact the loops must end (mark_touching)
   /// when it separates. One byte, so that finding those costs the loops little memory traffic.
@@ -51,9 +58,12 @@ struct PairContacts {
   /// With several threads, thread t takes the contacts [shares[t], shares[t + 1]) (planned by
   /// the World, weighted by which contacts touch, so that the threads finish together).
   std::vector<std::int64_t> shares;
-  /// Per-particle incidence (CSR) for the fixed-order force gather: particle i's contacts are the
-  /// entries [incidence_offsets[i], incidence_offsets[i + 1]) of incidence_entries, each
-  /// contact * 2 + side (side 1: i is piece 2), in contact order. Made with the list.
+  /// Scratch of a threaded step: share t's parts of the particles shared with earlier shares
+  /// (KernelContext::shared), added after the loop in share order.
+  std::vector<std::vector<DeferredSum>> deferred;
+  /// Per-particle incidence (CSR): particle i's contacts are the entries
+  /// [incidence_offsets[i], incidence_offsets[i + 1]) of incidence_entries, each contact * 2 + side
+  /// (side 1: i is piece 2), in contact order. Made with the list; restart files hold it.
   std::vector<std::int32_t> incidence_offsets, incidence_entries;
   std::size_t size() const { return first.size(); }
 };

@@ -55,10 +55,9 @@ inline void merge_worst(OverlapMonitor& into, const OverlapMonitor& other) {
 
 /// A candidate found separated: its history ends (docs/model.md 1.1) and its records are zeroed.
 template <class State>
-void end_contact(PairContacts& c, std::int64_t k, bool records) {
+void end_contact(PairContacts& c, std::int64_t k) {
   state_at<State>(c.state, static_cast<std::size_t>(k)) = State{};
   c.force[k].setZero();
-  if (records) c.torque_first[static_cast<std::size_t>(k)].setZero();
   c.normal_force[k] = 0.0;
   c.touching[static_cast<std::size_t>(k)] = 0;
 }
@@ -70,30 +69,42 @@ DEM_HOT_INLINE void add_into(Vec3& sum, const Lane3& v) { sum.x() += v.x, sum.y(
 DEM_HOT_INLINE void subtract_from(Vec3& sum, const Lane3& v) { sum.x() -= v.x, sum.y() -= v.y, sum.z() -= v.z; }
 
 /// Adds contact k (force `f` on piece 2, torques on both pieces) into its particles' sums, in the
-/// caller's contact order. `Threaded`: a gathered particle is skipped and the torque record kept.
-template <bool Threaded>
-DEM_HOT_INLINE void add_to_particles(const KernelContext& ctx, PairContacts& c, std::int64_t k, std::size_t i,
+/// caller's contact order. `Deferred`: a shared particle's part goes to `later` instead, for the
+/// engine to add once the earlier shares have added theirs.
+template <bool Deferred>
+DEM_HOT_INLINE void add_to_particles(const KernelContext& ctx, std::vector<DeferredSum>* later, std::size_t i,
                                      std::size_t j, const Lane3& f, const Lane3& torque_first,
                                      const Lane3& torque_second) {
-  const bool gather_first = Threaded && ctx.gathered[i] != 0;
-  const bool gather_second = Threaded && ctx.gathered[j] != 0;
-  if (!gather_first) {
+  const bool defer_first = Deferred && ctx.shared[i] != 0;
+  const bool defer_second = Deferred && ctx.shared[j] != 0;
+  if (defer_first) later->push_back({static_cast<std::int32_t>(i), true, f, torque_first});
+  else {
     subtract_from(ctx.scatter_force[i], f);
     add_into(ctx.scatter_torque[i], torque_first);
   }
-  if (!gather_second) {
+  if (defer_second) later->push_back({static_cast<std::int32_t>(j), false, f, torque_second});
+  else {
     add_into(ctx.scatter_force[j], f);
     add_into(ctx.scatter_torque[j], torque_second);
   }
-  if (gather_first || gather_second) c.torque_first[static_cast<std::size_t>(k)] = to_vec3(torque_first);
 }
 
-/// The pair loop over the near candidates c.near[begin, end): one thread's share. `Threaded`: skip
-/// the particles the engine gathers (KernelContext::gathered) and leave their records; otherwise
-/// add into all.
-template <ContactLaw Law, bool Threaded>
+/// Adds the parts `add_to_particles` deferred, in the order they were deferred: the same
+/// operations on the same values as the direct sums, so the same bits.
+inline void add_deferred(const KernelContext& ctx, const std::vector<DeferredSum>& later) {
+  for (const DeferredSum& d : later) {
+    const auto i = static_cast<std::size_t>(d.particle);
+    if (d.first_piece) subtract_from(ctx.scatter_force[i], d.force);
+    else add_into(ctx.scatter_force[i], d.force);
+    add_into(ctx.scatter_torque[i], d.torque);
+  }
+}
+
+/// The pair loop over the near candidates c.near[begin, end): one thread's share. `Deferred`: the
+/// shared particles' parts go to `later` (KernelContext::shared); otherwise every sum is added.
+template <ContactLaw Law, bool Deferred>
 void pair_range(const typename Law::Params& params, PairContacts& c, const KernelContext& ctx, std::int64_t begin,
-                std::int64_t end, bool records, OverlapMonitor& local) {
+                std::int64_t end, std::vector<DeferredSum>* later, OverlapMonitor& local) {
   using State = typename Law::State;
   const ParticleStore& p = *ctx.particles;
   for (std::int64_t a = begin; a < end; ++a) {
@@ -106,7 +117,7 @@ void pair_range(const typename Law::Params& params, PairContacts& c, const Kerne
     if (dist_sq >= reach * reach) {
       // Separated: history ends. A pair that was apart already holds a fresh State and zero
       // records, so most candidates cost no writes at all.
-      if (c.touching[static_cast<std::size_t>(k)]) end_contact<State>(c, k, records);
+      if (c.touching[static_cast<std::size_t>(k)]) end_contact<State>(c, k);
       continue;
     }
     State& state = state_at<State>(c.state, static_cast<std::size_t>(k));
@@ -129,7 +140,7 @@ void pair_range(const typename Law::Params& params, PairContacts& c, const Kerne
     c.normal_force[k] = out.normal_force;
     c.touching[static_cast<std::size_t>(k)] = (out.normal_force != 0.0) | !out.force.isZero(0.0);
     const Vec3 torque_first = -arm_first.cross(out.force) - out.moment;
-    add_to_particles<Threaded>(ctx, c, k, i, j, lane(out.force), lane(torque_first),
+    add_to_particles<Deferred>(ctx, later, i, j, lane(out.force), lane(torque_first),
                                lane(second_torque(d, out.force, torque_first)));
     const double ratio = kin.overlap / std::min(p.radius[i], p.radius[j]);
     if (ratio > local.ratio) local = OverlapMonitor{ratio, k};
@@ -302,9 +313,9 @@ BlockKernel<Law, Block> block_kernel(const typename Law::Params& params, BlockIs
 
 /// pair_range for a lane law: the same near candidates, block by block. Sums into particles happen
 /// in contact order, as in pair_range, so both give the same bits.
-template <LaneContactLaw Law, bool Threaded>
+template <LaneContactLaw Law, bool Deferred>
 void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const KernelContext& ctx,
-                      std::int64_t begin, std::int64_t end, bool records, OverlapMonitor& local) {
+                      std::int64_t begin, std::int64_t end, std::vector<DeferredSum>* later, OverlapMonitor& local) {
   using State = typename Law::State;
   const ParticleStore& p = *ctx.particles;
   const Vec3* x = p.x.data();
@@ -337,7 +348,7 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
       b.dx[count] = d.x, b.dy[count] = d.y, b.dz[count] = d.z;
       b.radius_1[count] = radius[i], b.radius_2[count] = radius[j];
       count += separated ? 0 : 1;
-      if (separated & (touching[k] != 0)) end_contact<State>(c, k, records);
+      if (separated & (touching[k] != 0)) end_contact<State>(c, k);
       // The block reads this contact's history and writes its results after the whole stretch
       // is found: ask for those lines now, so that they arrive meanwhile.
       const std::byte* history = c.state.at(static_cast<std::size_t>(k));
@@ -368,7 +379,7 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
       force[k_m].x() = f.x, force[k_m].y() = f.y, force[k_m].z() = f.z;
       normal_force[k_m] = b.normal_force[m];
       touching[k_m] = b.touching[m] != 0.0;
-      add_to_particles<Threaded>(ctx, c, k_m, i, j, f, Lane3{b.t1x[m], b.t1y[m], b.t1z[m]},
+      add_to_particles<Deferred>(ctx, later, i, j, f, Lane3{b.t1x[m], b.t1y[m], b.t1z[m]},
                                  Lane3{b.t2x[m], b.t2y[m], b.t2z[m]});
       // The overlap ratio's division here, in the scalar loop, leaves the block's divider to the law.
       const double ratio = b.overlap[m] / std::min(b.radius_1[m], b.radius_2[m]);
@@ -379,34 +390,31 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
 
 /// One mode's loop for one thread's share: blocks for a lane law where they pay (lanes_worthwhile),
 /// one contact at a time otherwise.
-template <ContactLaw Law, bool Threaded>
+template <ContactLaw Law, bool Deferred>
 void pair_share(const typename Law::Params& params, PairContacts& c, const KernelContext& ctx, std::int64_t begin,
-                std::int64_t end, bool records, OverlapMonitor& local) {
+                std::int64_t end, std::vector<DeferredSum>* later, OverlapMonitor& local) {
   if constexpr (LaneContactLaw<Law>) {
-    if (lanes_worthwhile()) return pair_range_lanes<Law, Threaded>(params, c, ctx, begin, end, records, local);
+    if (lanes_worthwhile()) return pair_range_lanes<Law, Deferred>(params, c, ctx, begin, end, later, local);
   }
-  pair_range<Law, Threaded>(params, c, ctx, begin, end, records, local);
+  pair_range<Law, Deferred>(params, c, ctx, begin, end, later, local);
 }
 
 template <ContactLaw Law>
 void compute_pairs(const typename Law::Params& params, PairContacts& c, const KernelContext& ctx,
                    OverlapMonitor& worst) {
   const std::int64_t count = static_cast<std::int64_t>(c.size());
-  const std::uint8_t* gathered = ctx.gathered;
-  const int threads = gathered && c.shares.size() >= 2 ? static_cast<int>(c.shares.size()) - 1 : 1;
+  const int threads = ctx.shared && c.shares.size() >= 2 ? static_cast<int>(c.shares.size()) - 1 : 1;
   c.force.resize(c.size(), Vec3::Zero());
   c.normal_force.resize(c.size(), 0.0);
   if (c.touching.size() != c.size()) mark_touching(c);
-  // Only the gather reads the torques on piece 1, so only a gathered step keeps them (scratch:
-  // restart files leave them out).
-  if (gathered) c.torque_first.resize(c.size(), Vec3::Zero());
-  else c.torque_first.clear();
-  const bool records = gathered != nullptr;
+  // The shared particles' parts from the shares after the first, one list per share.
+  c.deferred.resize(static_cast<std::size_t>(threads));
+  for (std::vector<DeferredSum>& later : c.deferred) later.clear();
 #pragma omp parallel num_threads(threads)
   {
     OverlapMonitor local;
-    // The shares the engine planned the gather on; should the runtime give fewer threads than
-    // asked, one thread takes every share (each particle still has a single writer).
+    // The shares the engine planned; should the runtime give fewer threads than asked, one thread
+    // takes every share and adds every sum itself.
 #if defined(_OPENMP)
     const bool as_planned = omp_get_num_threads() == threads;
     const int me = omp_get_thread_num();
@@ -420,11 +428,15 @@ void compute_pairs(const typename Law::Params& params, PairContacts& c, const Ke
     // The share's contacts [begin, end) as positions in the near list.
     begin = std::lower_bound(c.near.begin(), c.near.end(), begin) - c.near.begin();
     end = std::lower_bound(c.near.begin(), c.near.end(), end) - c.near.begin();
-    if (gathered) pair_share<Law, true>(params, c, ctx, begin, end, records, local);
-    else pair_share<Law, false>(params, c, ctx, begin, end, records, local);
+    // The first share comes first in contact order: it adds into the shared particles directly.
+    std::vector<DeferredSum>* later = &c.deferred[static_cast<std::size_t>(me)];
+    if (as_planned && me > 0) pair_share<Law, true>(params, c, ctx, begin, end, later, local);
+    else pair_share<Law, false>(params, c, ctx, begin, end, later, local);
 #pragma omp critical(dem_overlap_monitor)
     merge_worst(worst, local);
   }
+  // Then the later shares' parts, share by share: each shared particle's sum in contact order.
+  for (std::size_t t = 1; t < c.deferred.size(); ++t) add_deferred(ctx, c.deferred[t]);
 }
 
 }  // namespace dem::detail

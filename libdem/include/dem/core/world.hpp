@@ -52,7 +52,7 @@ struct StepTiming {
   double ball_ball = 0.0;    // s, the ball-ball contact laws over the pair list
   double ball_pebble = 0.0;  // s, the ball-pebble contact laws (the rings)
   double ball_facet = 0.0;   // s, the ball-wall contact laws (facet and analytic walls)
-  double force_sums = 0.0;   // s, zeroing, gathering and summing forces on balls and walls, overlap check
+  double force_sums = 0.0;   // s, zeroing, planning the threads' shares, summing forces on walls, overlap check
   double controllers = 0.0;  // s, servo walls and protocol controllers
   double integration = 0.0;  // s, balls, clumps and pebbles, walls
   double communication = 0.0;  // s, spread over processes: ghosts, gathered sums, synchronisation
@@ -207,7 +207,7 @@ class World {
  private:
   void rebuild(bool resort);
   void compute_forces();
-  void plan_gather();
+  void plan_shares();
   void integrate();
   void update_pebbles();
   std::int64_t pebble_count() const;
@@ -261,11 +261,10 @@ class World {
   std::shared_ptr<parallel::DomainComm> comm_;     // null: one process
   std::shared_ptr<detail::Subdomains> domains_;    // the plan of a spread World
   // With several threads: the particles whose pair contacts fall in more than one thread's share
-  // (their forces are gathered from per-contact records), planned once per neighbour list.
-  std::vector<std::uint8_t> gathered_;
-  std::vector<std::int32_t> gathered_list_;
-  bool gather_plan_stale_ = true;
-  std::int64_t gather_planned_at_ = 0;  // step of the plan
+  // (KernelContext::shared), planned with the shares after every rebuild and every few hundred steps.
+  std::vector<std::uint8_t> shared_;
+  bool share_plan_stale_ = true;
+  std::int64_t shares_planned_at_ = 0;  // step of the plan
 };
 
 }  // namespace dem
