@@ -88,6 +88,25 @@ void end_wall_contact(WallContacts& c, std::int64_t k, const Vec3& centre) {
   c.normal_stiffness[k] = 0.0;
 }
 
+/// Candidate k's closest point on its wall and its squared distance from the ball's centre; false
+/// when the ball is another process's (its records are left) or apart from the wall (its history
+/// ends and its records are zeroed).
+template <class State, class Closest>
+DEM_HOT_INLINE bool touching_wall(WallContacts& c, const KernelContext& ctx, std::int64_t k, const Closest& closest_of,
+                                  Vec3& closest, double& best_sq) {
+  if (c.ball[k] < ctx.owned_begin || c.ball[k] >= ctx.owned_end) return false;  // another process's ball
+  const auto b = static_cast<std::size_t>(c.ball[k]);
+  const Vec3& centre = ctx.particles->x[b];
+  best_sq = std::numeric_limits<double>::infinity();
+  closest = closest_of(k, (*ctx.walls)[static_cast<std::size_t>(c.wall[k])], centre, best_sq);
+  const double r = ctx.particles->radius[b];
+  if (best_sq >= r * r || best_sq == 0.0) {
+    end_wall_contact<State>(c, k, centre);
+    return false;
+  }
+  return true;
+}
+
 /// The wall loop over candidates [begin, end), one contact at a time.
 template <ContactLaw Law, class Closest>
 void wall_range(const typename Law::Params& params, WallContacts& c, const KernelContext& ctx, std::int64_t begin,
@@ -96,17 +115,13 @@ void wall_range(const typename Law::Params& params, WallContacts& c, const Kerne
   const ParticleStore& p = *ctx.particles;
   const std::vector<Wall>& walls = *ctx.walls;
   for (std::int64_t k = begin; k < end; ++k) {
-    if (c.ball[k] < ctx.owned_begin || c.ball[k] >= ctx.owned_end) continue;  // another process's ball
+    Vec3 closest;
+    double best_sq;
+    if (!touching_wall<State>(c, ctx, k, closest_of, closest, best_sq)) continue;
     const auto b = static_cast<std::size_t>(c.ball[k]);
     const Wall& wall = walls[static_cast<std::size_t>(c.wall[k])];
     const Vec3& centre = p.x[b];
-    double best_sq = std::numeric_limits<double>::infinity();
-    const Vec3 closest = closest_of(k, wall, centre, best_sq);
     const double r = p.radius[b];
-    if (best_sq >= r * r || best_sq == 0.0) {
-      end_wall_contact<State>(c, k, centre);
-      continue;
-    }
     State& state = state_at<State>(c.state, static_cast<std::size_t>(k));
     const double dist = std::sqrt(best_sq);
     ContactKinematics kin;
@@ -146,18 +161,13 @@ void wall_range_lanes(const typename Law::Params& params, WallContacts& c, const
   for (std::int64_t k = begin; k < end;) {
     int count = 0;
     for (; k < end && count < pair_block; ++k) {
-      if (c.ball[k] < ctx.owned_begin || c.ball[k] >= ctx.owned_end) continue;  // another process's ball
+      Vec3 closest;
+      double best_sq;
+      if (!touching_wall<State>(c, ctx, k, closest_of, closest, best_sq)) continue;
       const auto i = static_cast<std::size_t>(c.ball[k]);
       const Wall& wall = walls[static_cast<std::size_t>(c.wall[k])];
-      const Vec3& centre = p.x[i];
-      double best_sq = std::numeric_limits<double>::infinity();
-      const Vec3 closest = closest_of(k, wall, centre, best_sq);
       const double r = p.radius[i];
-      if (best_sq >= r * r || best_sq == 0.0) {
-        end_wall_contact<State>(c, k, centre);
-        continue;
-      }
-      const Vec3 d = closest - centre;
+      const Vec3 d = closest - p.x[i];
       b.contact[count] = k;
       b.dx[count] = d.x(), b.dy[count] = d.y(), b.dz[count] = d.z();
       b.dist_sq[count] = best_sq;
