@@ -213,24 +213,23 @@ void SimpleShearTest::record_history() {
 
 void SimpleShearTest::record_outputs(bool force) {
   const double strain = path_.strain();
+  const auto fabric_due = [&] {
+    return next_fabric_ < config_.output.fabric_strains.size() && strain >= config_.output.fabric_strains[next_fabric_] - 1e-12;
+  };
+  const auto snapshot_due = [&] {
+    return next_snapshot_ < config_.output.snapshot_strains.size() &&
+           strain >= config_.output.snapshot_strains[next_snapshot_] - 1e-12;
+  };
   const bool row = force || strain >= next_output_strain_ - 1e-12;
-  const bool fabric = next_fabric_ < config_.output.fabric_strains.size() &&
-                      strain >= config_.output.fabric_strains[next_fabric_] - 1e-12;
-  const bool snapshot = next_snapshot_ < config_.output.snapshot_strains.size() &&
-                        strain >= config_.output.snapshot_strains[next_snapshot_] - 1e-12;
-  if (row || fabric || snapshot) world_->gather_state();  // after a step that left only the walls whole
+  if (row || fabric_due() || snapshot_due()) world_->gather_state();  // after a step that left only the walls whole
   if (row) {
     record_history();
     while (next_output_strain_ <= path_.strain() + 1e-12) next_output_strain_ += config_.output.every_strain;
   }
-  while (next_fabric_ < config_.output.fabric_strains.size() && strain >= config_.output.fabric_strains[next_fabric_] - 1e-12) {
+  for (; fabric_due(); ++next_fabric_)
     fabric_->record(*world_, label_for(config_.output.fabric_strains[next_fabric_]), strain);
-    ++next_fabric_;
-  }
-  while (next_snapshot_ < config_.output.snapshot_strains.size() && strain >= config_.output.snapshot_strains[next_snapshot_] - 1e-12) {
+  for (; snapshot_due(); ++next_snapshot_)
     snapshots_->write(*world_, label_for(config_.output.snapshot_strains[next_snapshot_]), world_->time(), strain);
-    ++next_snapshot_;
-  }
 }
 
 void SimpleShearTest::maybe_save_restart() {

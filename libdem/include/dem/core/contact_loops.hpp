@@ -160,27 +160,12 @@ concept LaneContactLaw = ContactLaw<L> && requires(const typename L::Params& p, 
 /// waiting on that chain; a block staged as arrays runs in SIMD lanes.
 inline constexpr int pair_block = 64;
 
-/// One block of touching pair contacts: inputs gathered from the particles, the law's history
-/// copied out of (and back into) the contact store, and the results, one entry per contact.
+/// The law's history of a block's contacts, double by double (SoA): copied out of the contact
+/// store before the block and back after it.
 template <class State>
-struct PairBlock {
+struct BlockHistory {
   static constexpr int state_doubles = static_cast<int>(sizeof(State) / sizeof(double));
-  std::int64_t contact[pair_block];
-  std::int32_t first[pair_block], second[pair_block];
-  // inputs: branch d = x2 - x1, radii, velocities, inverse masses
-  double dx[pair_block], dy[pair_block], dz[pair_block];
-  double radius_1[pair_block], radius_2[pair_block];
-  double v1x[pair_block], v1y[pair_block], v1z[pair_block], v2x[pair_block], v2y[pair_block], v2z[pair_block];
-  double w1x[pair_block], w1y[pair_block], w1z[pair_block], w2x[pair_block], w2y[pair_block], w2z[pair_block];
-  double inv_mass_1[pair_block], inv_mass_2[pair_block];
-  double state[state_doubles][pair_block];  // the law's history, double by double
-  // results: force on piece 2, torques on pieces 1 and 2, elastic normal force, overlap (the
-  // scalar loop divides it by the smaller radius into the overlap ratio: a division is among the
-  // block's slowest instructions), and 1 where the contact still touches (non-zero normal force or
-  // force; PairContacts::touching)
-  double fx[pair_block], fy[pair_block], fz[pair_block];
-  double t1x[pair_block], t1y[pair_block], t1z[pair_block], t2x[pair_block], t2y[pair_block], t2z[pair_block];
-  double normal_force[pair_block], overlap[pair_block], touching[pair_block];
+  double state[state_doubles][pair_block];
 
   /// Copies a State's bytes (`history`) into entry m of `state`, and back.
   void load_history(int m, const std::byte* history) {
@@ -189,6 +174,27 @@ struct PairBlock {
   void store_history(int m, std::byte* history) const {
     for (int s = 0; s < state_doubles; ++s) std::memcpy(history + s * sizeof(double), &state[s][m], sizeof(double));
   }
+};
+
+/// One block of touching pair contacts: inputs gathered from the particles, the law's history
+/// copied out of (and back into) the contact store, and the results, one entry per contact.
+template <class State>
+struct PairBlock : BlockHistory<State> {
+  std::int64_t contact[pair_block];
+  std::int32_t first[pair_block], second[pair_block];
+  // inputs: branch d = x2 - x1, radii, velocities, inverse masses
+  double dx[pair_block], dy[pair_block], dz[pair_block];
+  double radius_1[pair_block], radius_2[pair_block];
+  double v1x[pair_block], v1y[pair_block], v1z[pair_block], v2x[pair_block], v2y[pair_block], v2z[pair_block];
+  double w1x[pair_block], w1y[pair_block], w1z[pair_block], w2x[pair_block], w2y[pair_block], w2z[pair_block];
+  double inv_mass_1[pair_block], inv_mass_2[pair_block];
+  // results: force on piece 2, torques on pieces 1 and 2, elastic normal force, overlap (the
+  // scalar loop divides it by the smaller radius into the overlap ratio: a division is among the
+  // block's slowest instructions), and 1 where the contact still touches (non-zero normal force or
+  // force; PairContacts::touching)
+  double fx[pair_block], fy[pair_block], fz[pair_block];
+  double t1x[pair_block], t1y[pair_block], t1z[pair_block], t2x[pair_block], t2y[pair_block], t2z[pair_block];
+  double normal_force[pair_block], overlap[pair_block], touching[pair_block];
 };
 
 /// A lane law with versions of force_lanes for special parameters (lanes.hpp: lane variants).

@@ -12,8 +12,7 @@ namespace dem::detail {
 /// One block of touching ball-wall contacts: the ball's side gathered, the wall's velocity, the
 /// law's history copied out of (and back into) the contact store, and the results.
 template <class State>
-struct WallBlock {
-  static constexpr int state_doubles = static_cast<int>(sizeof(State) / sizeof(double));
+struct WallBlock : BlockHistory<State> {
   std::int64_t contact[pair_block];
   // inputs: d = closest point - centre and its squared length (from the closest-point search),
   // the ball's radius, velocity, spin and inverse mass, the wall's velocity
@@ -21,23 +20,15 @@ struct WallBlock {
   double radius[pair_block], inv_mass[pair_block];
   double vx[pair_block], vy[pair_block], vz[pair_block], wx[pair_block], wy[pair_block], wz[pair_block];
   double wall_vx[pair_block], wall_vy[pair_block], wall_vz[pair_block];
-  double state[state_doubles][pair_block];
   // results: force on the wall, torque on the ball, rolling moment, the arm x_c - x_ball, elastic
   // normal force and stiffness, overlap
   double fx[pair_block], fy[pair_block], fz[pair_block];
   double tx[pair_block], ty[pair_block], tz[pair_block], mx[pair_block], my[pair_block], mz[pair_block];
   double ax[pair_block], ay[pair_block], az[pair_block];
   double normal_force[pair_block], normal_stiffness[pair_block], overlap[pair_block];
-
-  void load_history(int m, const std::byte* history) {
-    for (int s = 0; s < state_doubles; ++s) std::memcpy(&state[s][m], history + s * sizeof(double), sizeof(double));
-  }
-  void store_history(int m, std::byte* history) const {
-    for (int s = 0; s < state_doubles; ++s) std::memcpy(history + s * sizeof(double), &state[s][m], sizeof(double));
-  }
 };
 
-/// Kinematics, law and torque of the `count` contacts of a wall block: wall_contact's arithmetic
+/// Kinematics, law and torque of the `count` contacts of a wall block: wall_range's arithmetic
 /// in the same order, lane by lane (same bits).
 template <LaneContactLaw Law, int Variant>
 DEM_HOT_INLINE void block_lanes(const typename Law::Params& shared_params, WallBlock<typename Law::State>& b,
