@@ -14,6 +14,8 @@
 #include <dem/core/errors.hpp>
 #include <dem/io/csv.hpp>
 #include <dem/lab/calibration.hpp>
+#include <dem/lab/simple_shear_parts.hpp>
+#include <dem/lab/specimen_file.hpp>
 
 #include "support/json.hpp"
 #include "support/temp_dir.hpp"
@@ -210,6 +212,43 @@ fs::path make_lab_curve(const io::Config& start, const ContactFit& truth, double
 }
 
 }  // namespace
+
+TEST_CASE("calibration: a trial shears its own E*'s consolidated specimen, loaded by the toolkit's parts", "[calibration]") {
+  const TempDir temp("trial");
+  std::ostringstream log;
+  const SimpleShearConfig config = simple_shear_config(small_config());
+  const double start = config.ball_ball.effective_modulus, other = 1.5 * start;
+  ShearTrials trials(config, temp.path, {}, true, log);
+  trials.prepare({start, other}, 1, 1);
+  const fs::path generated = temp.path / "specimen" / "generated" / "generated.restart";
+  const fs::path consolidated = temp.path / "specimen" / ("E_" + lab::detail::exact_text(other)) / "consolidated.restart";
+  CHECK(restart_stage(generated) == ShearStage::Generated);
+  CHECK(restart_stage(consolidated) == ShearStage::Consolidated);
+
+  // The trial's first row is the state its specimen was consolidated to (the last row the
+  // specimen's own run wrote, after consolidating the starting E*'s specimen again at `other`),
+  // measured again after the restart file has been loaded: the same bits.
+  const ContactFit fit{other, config.ball_ball.friction, config.ball_ball.rolling_friction};
+  const ModelCurve curve = trials.shear(fit, 0.01, 1, 1);
+  const io::CsvData trial = io::read_csv(trials.trial_dir(1) / "history.csv");
+  const io::CsvData made = io::read_csv(consolidated.parent_path() / "history.csv", io::Missing::Allowed);
+  REQUIRE(made.rows.size() == 2);  // the starting E*'s consolidation row, then this E*'s
+  for (const char* column : {"time", "shear_stress", "vertical_stress", "height", "lateral_stress"})
+    CHECK(trial.rows.front()[trial.column(column)] == made.rows.back()[made.column(column)]);
+  CHECK(made.rows.front()[made.column("height")] != made.rows.back()[made.column("height")]);
+  CHECK(trial.rows.front()[trial.column("shear_strain")] == 0.0);
+  // Then a row every output.every_strain to the trial's strain, none with a ball outside.
+  CHECK(trial.rows.size() == curve.shear_strain.size());
+  CHECK(trial.rows.size() >= static_cast<std::size_t>(0.01 / config.output.every_strain));
+  CHECK(curve.shear_strain.back() >= 0.01 * (1 - 1e-12));
+  for (const auto& row : trial.rows) CHECK(row[trial.column("balls_outside")] == 0.0);
+
+  // A world of the same configuration takes a consolidated specimen only.
+  World world(world_settings(config));
+  const ShearCell cell = build_shear_cell(world, shear_cell_spec(config));
+  set_contact_laws(world, config, config.ball_ball.friction, config.ball_ball.rolling_friction, false);
+  CHECK_THROWS_WITH(load_consolidated_specimen(generated, world, cell, config, log), Contains("stage") && Contains("consolidated"));
+}
 
 TEST_CASE("calibration: E* and mu are recovered from a curve made with known values, and a rerun reuses every trial",
           "[calibration]") {

@@ -49,7 +49,18 @@ void save_checkpoint(const std::filesystem::path& path, const World& world, cons
   });
 }
 
-std::string load_checkpoint(const std::filesystem::path& path, World& world) {
+namespace {
+
+// A restart file checked whole: its format version, its payload (protocol text, then world state)
+// and the protocol text read from the payload's start.
+struct Checkpoint {
+  std::uint32_t version = 0;
+  std::string data;
+  std::string text;
+  std::size_t world_offset = 0;  // where the world state starts in data
+};
+
+Checkpoint read_framed(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError("restart file " + path.string() + ": cannot be opened");
   const std::string file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -77,7 +88,10 @@ std::string load_checkpoint(const std::filesystem::path& path, World& world) {
     throw InputError("restart file " + path.string() + ": too long (" + std::to_string(file.size()) + " bytes, " +
                      std::to_string(present - size) + " bytes past the end of the " +
                      std::to_string(header + size + sizeof stored) + "-byte restart file): must end at its checksum");
-  const std::string data = file.substr(header, size);
+  Checkpoint c;
+  c.version = version;
+  c.data = file.substr(header, size);
+  const std::string& data = c.data;
   std::memcpy(&stored, file.data() + header + size, sizeof stored);
   if (checksum(data) != stored) throw InputError("restart file " + path.string() + ": checksum mismatch (corrupted)");
   std::istringstream payload(data, std::ios::binary);
@@ -87,8 +101,22 @@ std::string load_checkpoint(const std::filesystem::path& path, World& world) {
     throw InputError("restart file " + path.string() + ": protocol state size = " + std::to_string(text_size) +
                      ": must be at most " + std::to_string(data.size() - std::min(data.size(), sizeof text_size)) +
                      " bytes (the payload)");
-  std::string text(text_size, '\0');
-  payload.read(text.data(), static_cast<std::streamsize>(text_size));
+  c.text.assign(text_size, '\0');
+  payload.read(c.text.data(), static_cast<std::streamsize>(text_size));
+  c.world_offset = static_cast<std::size_t>(payload.tellg());
+  return c;
+}
+
+}  // namespace
+
+std::string read_checkpoint_protocol(const std::filesystem::path& path) { return read_framed(path).text; }
+
+std::string load_checkpoint(const std::filesystem::path& path, World& world) {
+  const Checkpoint c = read_framed(path);
+  std::istringstream payload(c.data, std::ios::binary);
+  payload.seekg(static_cast<std::streamoff>(c.world_offset));
+  const std::string& data = c.data;
+  const std::uint32_t version = c.version;
   try {
     read_world_state(payload, world, version);
   } catch (const InputError& e) {
@@ -100,7 +128,7 @@ std::string load_checkpoint(const std::filesystem::path& path, World& world) {
   if (used != data.size())
     throw InputError("restart file " + path.string() + ": " + std::to_string(data.size() - used) +
                      " bytes after the world state: must be none (written by another format?)");
-  return text;
+  return c.text;
 }
 
 }  // namespace dem::io

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <chrono>
 #include <fstream>
 #include <iomanip>
@@ -13,7 +14,12 @@
 
 #include <dem/core/errors.hpp>
 #include <dem/io/csv.hpp>
+#include <dem/lab/history_log.hpp>
+#include <dem/lab/shear_leg.hpp>
 #include <dem/lab/simple_shear.hpp>
+#include <dem/lab/simple_shear_parts.hpp>
+#include <dem/lab/specimen_file.hpp>
+#include <dem/lab/specimen_guards.hpp>
 
 namespace fs = std::filesystem;
 
@@ -41,6 +47,69 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// A trial from the toolkit's parts: the consolidated specimen of `restart` sheared along the legs of
+// `c` (one, to the lab's largest strain) as SimpleShearTest::shear() shears it, with a history row
+// at every output.every_strain and at the end. The columns model_curve_from_history reads are
+// measured as SimpleShearTest measures them; the first row is this specimen's own consolidated
+// state.
+void shear_specimen(const SimpleShearConfig& c, const fs::path& restart, const fs::path& history_file, std::ostream& log) {
+  const auto t0 = std::chrono::steady_clock::now();
+  World world(world_settings(c));
+  const ShearCell cell = build_shear_cell(world, shear_cell_spec(c));
+  set_contact_laws(world, c, c.ball_ball.friction, c.ball_ball.rolling_friction, false);
+  const ConsolidatedSpecimen specimen = load_consolidated_specimen(restart, world, cell, c, log);
+  ServoWall servo(cell.top, specimen.servo);
+  servo.resume_steps_on_target(specimen.servo_steps_on_target);
+  world.add_controller([&](World& w) {
+    servo(w);
+    move_rings(w, cell, true);
+    w.set_damping_frame(shear_damping_frame(c, w, cell));  // docs/model.md 3.1
+  });
+  const double height = specimen.height;  // m, H_c
+  const double sign = c.output.volumetric_strain_sign == VolumeSign::DilationPositive ? 1.0 : -1.0;
+  HistoryLog history(history_file);
+  history.add("time", [&] { return world.time(); });
+  history.add("shear_strain", [&] { return plate_offset(world, cell).norm() / height; });
+  history.add("shear_stress", [&] {
+    return std::hypot(world.wall(cell.top).force.x() / cell.area, world.wall(cell.top).force.y() / cell.area);
+  });
+  history.add("vertical_stress", [&] { return world.wall(cell.top).normal_stress(); });
+  history.add("height", [&] { return cell.plate_gap(world); });
+  history.add("volumetric_strain", [&] { return sign * ((cell.plate_gap(world) - height) / height); });
+  history.add("lateral_stress", [&] { return ring_lateral_stress(world, cell); });
+  history.add("balls_outside", [&] { return static_cast<double>(balls_outside(world, cell)); });
+  history.record();
+
+  const std::vector<ShearLeg> legs = c.shear.legs();
+  const double rate = shear_strain_rate(c, world);  // 1/s
+  log << "resumed from " << restart.string() << " at step " << world.step_count() << "; shear: rate " << rate << " 1/s, "
+      << (c.shear.mode == ShearMode::ConstantVolume ? "constant volume" : "drained") << ", to " << c.shear.total_strain() << "\n";
+  std::size_t leg = 0;
+  const auto start_leg = [&] {
+    start_shear_leg(world, cell, servo, shear_leg_motion(c, legs[leg].direction_deg, rate, height));
+  };
+  ShearPath path(world, cell, height);
+  double leg_start = 0.0, next_row = c.output.every_strain;
+  start_leg();
+  while (leg < legs.size()) {
+    world.step(SimpleShearTest::chunk_steps, World::StepEnd::WallsAndClumps);
+    path.advance(world, cell);
+    if (path.strain() - leg_start >= legs[leg].strain * (1 - 1e-12)) {
+      leg_start += legs[leg++].strain;
+      if (leg < legs.size()) start_leg();
+    }
+    if (leg == legs.size() || path.strain() >= next_row - 1e-12) {
+      world.gather_state();  // after a step that left only the walls whole
+      history.record();
+      require_no_escape(world, cell, path.strain());  // after the row: it shows the state the ball was lost in
+      while (next_row <= path.strain() + 1e-12) next_row += c.output.every_strain;
+    }
+  }
+  stop_shear(world, cell);
+  log << "shear done in " << seconds_since(t0) << " s, " << world.step_count() << " steps, shear stress "
+      << history.last("shear_stress") / 1e3 << " kPa at strain " << path.strain() << "\n";
+}
+
 }  // namespace
 
 ShearTrials::ShearTrials(SimpleShearConfig base, fs::path out_dir, fs::path from, bool fit_modulus, std::ostream& log,
@@ -60,25 +129,13 @@ ShearTrials::ShearTrials(SimpleShearConfig base, fs::path out_dir, fs::path from
   generated_restart_ = generated_files_ / "generated.restart";
   if (from.empty()) return;
 
-  // Which stage does the restart hold? Load it once in a scratch folder.
+  // Which stage does the restart hold? The leading process reads it for all.
   const std::string stage_text = farm_->on_leader([&] {
-    const fs::path probe = out_dir_ / "specimen" / "probe";
-    fs::remove_all(probe);
-    ShearStage held = ShearStage::Empty;
-    {
-      std::ofstream sink(probe / "log.txt");
-      SimpleShearTest test(config_for({base_.ball_ball.effective_modulus, base_.ball_ball.friction, base_.ball_ball.rolling_friction}, 1),
-                           probe, sink);
-      try {
-        test.load_restart(from);
-      } catch (const InputError& e) {
-        throw InputError("--from " + from.string() + ": " + e.what() +
-                         " (the restart's folder must still hold the history.csv, fabric.csv and snapshots/ written with it)");
-      }
-      held = test.stage();
+    try {
+      return std::to_string(static_cast<int>(restart_stage(from)));
+    } catch (const InputError& e) {
+      throw InputError("--from " + from.string() + ": " + e.what());
     }
-    fs::remove_all(probe);
-    return std::to_string(static_cast<int>(held));
   });
   const auto stage = static_cast<ShearStage>(std::stoi(stage_text));
   if (stage == ShearStage::Generated) {
@@ -88,6 +145,10 @@ ShearTrials::ShearTrials(SimpleShearConfig base, fs::path out_dir, fs::path from
     require(!fit_modulus || rule_ == ModulusSpecimen::Reconsolidated, "--from", from.string() + " (a consolidated specimen)",
             "a restart right after generation when E* is fitted with calibration.modulus_specimen = generated (every E* "
             "is then consolidated from the generated state); use modulus_specimen = reconsolidated, fit without emod, or drop --from");
+    // Specimens of other E* are consolidated again from it, continuing its history.
+    if (fit_modulus)
+      require(fs::exists(from.parent_path() / "history.csv"), "--from " + from.string() + ": history.csv beside it",
+              "(missing)", "the folder the restart was written in, with the history.csv written with it");
     given_consolidated_ = from;
   } else {
     throw InputError("--from " + from.string() + ": stage " + std::to_string(static_cast<int>(stage)) +
@@ -217,14 +278,10 @@ ModelCurve ShearTrials::shear(const ContactFit& fit, double strain, int number, 
   SimpleShearConfig c = config_for(fit, threads);
   c.shear.directions_deg = {base_.shear.legs().front().direction_deg};
   c.shear.leg_strains = {strain};
+  fs::create_directories(dir);
   {
-    fs::create_directories(dir);
     std::ofstream log(dir / "log.txt");
-    SimpleShearTest test(c, dir, log);
-    test.load_restart(restart);
-    require(test.stage() == ShearStage::Consolidated, "stage of " + restart.string(), static_cast<int>(test.stage()),
-            "2 (consolidated)");
-    test.shear();
+    shear_specimen(c, restart, dir / "history.csv", log);
   }
   const ModelCurve model = model_curve_from_history(io::read_csv(dir / "history.csv", io::Missing::Allowed));
   for (const auto& entry : fs::directory_iterator(dir))

@@ -294,29 +294,6 @@ void SimpleShearTest::save_restart(const std::filesystem::path& file) const {
   io::save_checkpoint(file, *world_, protocol_state());
 }
 
-// A specimen resumed under another configuration would run with that configuration's contact
-// parameters and rings without a word (a 2D specimen under the 4D defaults softens and collapses).
-// Its ball sizes tell a different grading or size scale for certain.
-void SimpleShearTest::require_configured_grading(const std::filesystem::path& file) const {
-  const ParticleStore& p = world_->particles();
-  double smallest = std::numeric_limits<double>::infinity(), largest = 0.0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if (p.is_pebble(i)) continue;
-    smallest = std::min(smallest, 2 * p.radius[i]);
-    largest = std::max(largest, 2 * p.radius[i]);
-  }
-  if (largest == 0.0) return;  // no balls yet
-  const double tolerance = 1e-9;  // relative: the generation draws diameters inside the grading's range
-  const double low = config_.grading.smallest(), high = config_.grading.largest();
-  std::ostringstream found, allowed;
-  found << smallest * 1e3 << "-" << largest * 1e3 << " mm";
-  allowed << "within this run's grading, " << low * 1e3 << "-" << high * 1e3 << " mm (grading.scale = "
-          << config_.grading.scale << "): resume with the configuration the specimen was made with (the same --preset "
-          << "and --config)";
-  require(smallest >= low * (1 - tolerance) && largest <= high * (1 + tolerance),
-          "restart file " + file.string() + ": ball diameters", found.str(), allowed.str());
-}
-
 void SimpleShearTest::load_restart(const std::filesystem::path& file, ResumeIntent intent) {
   require(!folder_, "load_restart() after the output folder was opened", file.string(), "a restart loaded before any stage ran");
   std::error_code error;
@@ -330,8 +307,8 @@ void SimpleShearTest::load_restart(const std::filesystem::path& file, ResumeInte
   restart_folder_ = std::filesystem::absolute(file).parent_path();
   restore_protocol_state(protocol);
   apply_configuration_record(file_configuration_, file, intent);
-  if (!generating_) require_configured_grading(file);  // balls still growing are smaller than the grading's
-  apply_restart_keys(as_configured, file);
+  if (!generating_) require_configured_grading(*world_, config_, file);  // balls still growing are smaller than the grading's
+  apply_restart_keys(*world_, as_configured, cell_, config_, file, log_);
   // A generation resumes with the friction it had reached; the contact lists and their history
   // stay as the file has them (no rebuild that the uninterrupted run did not do).
   if (generating_) set_contact_models(friction_now_, rolling_friction_now_, true, ModelChange::KeepContacts);

@@ -1,102 +1,14 @@
 // The protocol's progress in a restart file: a JSON object (keys as below) written by
-// protocol_state(), read back by restore_protocol_state(), which also reads the "key value" lines
-// of restart files written before the state was JSON.
+// protocol_state(), read back by restore_protocol_state() through read_protocol_record
+// (lab/specimen_file.hpp), which also reads the "key value" lines of files written before.
 #include <dem/lab/simple_shear.hpp>
 
-#include <cstdlib>
-#include <limits>
-#include <map>
-#include <sstream>
-
 #include <dem/core/errors.hpp>
+#include <dem/lab/specimen_file.hpp>
 
 #include "../io/json_file.hpp"
 
 namespace dem::lab {
-
-namespace {
-
-// The state as read: numbers by key (a missing number is NaN), the configuration record and the
-// positions of the current profile interval.
-struct StateRecord {
-  std::map<std::string, double> values;
-  std::vector<std::pair<std::string, std::string>> configuration;
-  std::vector<Vec3> profile_reference;
-};
-
-double number_of(const io::Json& item, const std::string& key) {
-  if (item.is_null()) return std::numeric_limits<double>::quiet_NaN();  // JSON has no NaN: written as null
-  if (item.is_boolean()) return item.get<bool>() ? 1.0 : 0.0;
-  require(item.is_number(), "restart file: protocol state '" + key + "'", item.dump(), "a number, true/false or null");
-  return item.get<double>();
-}
-
-StateRecord read_json_state(const std::string& text) {
-  StateRecord state;
-  io::Json j;
-  try {
-    j = io::Json::parse(text);
-  } catch (const io::Json::parse_error& e) {
-    throw InputError(std::string("restart file: protocol state is not JSON: ") + e.what());
-  }
-  require(j.is_object(), "restart file: protocol state", j.type_name(), "a JSON object");
-  for (const auto& [key, item] : j.items()) {
-    if (key == "configuration") {  // the record: an object of value texts
-      require(item.is_object(), "restart file: configuration", item.type_name(), "an object of key: value text");
-      for (const auto& [name, value] : item.items()) {
-        require(value.is_string(), "restart file: configuration key '" + name + "'", value.dump(), "a value text");
-        state.configuration.emplace_back(name, value.get<std::string>());
-      }
-    } else if (key == "profile_reference") {  // one position per ball id, null for pebbles
-      require(item.is_array(), "restart file: profile_reference", item.type_name(), "an array of [x, y, z]");
-      for (const auto& x : item) {
-        require(x.is_array() && x.size() == 3, "restart file: profile_reference entry", x.dump(), "[x, y, z]");
-        state.profile_reference.emplace_back(number_of(x[0], key), number_of(x[1], key), number_of(x[2], key));
-      }
-    } else {
-      state.values[key] = number_of(item, key);
-    }
-  }
-  return state;
-}
-
-// Restart files written before the state was JSON: "key value" lines, then the configuration and
-// profile_reference blocks.
-StateRecord read_line_state(const std::string& text) {
-  StateRecord state;
-  std::istringstream in(text);
-  std::string key, token;
-while (in >> key >> token) {
-  const double value = std::strtod(token.c_str(), nullptr);  // "nan" too: states of older runs
-  if (key == "configuration") {  // a count, then that many "key = value" lines
-    require(value >= 0 && value <= 1e4, "restart file: configuration count", value, "a count of keys (<= 10000)");
-    std::string line;
-    std::getline(in, line);
-    for (long k = 0; k < static_cast<long>(value); ++k) {
-      require(static_cast<bool>(std::getline(in, line)), "restart file: configuration", "(truncated)", "one line per key");
-      const auto eq = line.find(" = ");
-      require(eq != std::string::npos, "restart file: configuration line", line, "key = value");
-      state.configuration.emplace_back(line.substr(0, eq), line.substr(eq + 3));
-    }
-    continue;
-  }
-  if (key == "profile_reference") {  // a count, then that many positions
-    require(value >= 0 && value <= 1e9, "restart file: profile_reference count", value, "a count of balls");
-    state.profile_reference.resize(static_cast<std::size_t>(value));
-    for (Vec3& x : state.profile_reference) {
-      std::string a, b, c;  // "nan" for the ids of pebbles
-      in >> a >> b >> c;
-      require(static_cast<bool>(in), "restart file: profile_reference", "(truncated)", "one position per ball id");
-      x = Vec3(std::strtod(a.c_str(), nullptr), std::strtod(b.c_str(), nullptr), std::strtod(c.c_str(), nullptr));
-    }
-    continue;
-  }
-  state.values[key] = value;
-}
-  return state;
-}
-
-}  // namespace
 
 std::string SimpleShearTest::protocol_state() const {
   io::Json j;
@@ -165,40 +77,31 @@ std::string SimpleShearTest::protocol_state() const {
 }
 
 void SimpleShearTest::restore_protocol_state(const std::string& text) {
-  const auto first = text.find_first_not_of(" \t\r\n");
-  StateRecord record = first != std::string::npos && text[first] == '{' ? read_json_state(text) : read_line_state(text);
-  const std::map<std::string, double>& v = record.values;
+  ProtocolRecord record = read_protocol_record(text);
   file_configuration_ = std::move(record.configuration);
   ProfileInterval interval;
   interval.positions = std::move(record.profile_reference);
-  auto get = [&](const std::string& k) {
-    const auto it = v.find(k);
-    if (it == v.end()) throw InputError("restart file: protocol state has no '" + k + "'");
-    return it->second;
-  };
+  const auto get = [&](const std::string& k) { return record.number(k); };
   stage_ = static_cast<ShearStage>(static_cast<int>(get("stage")));
   ball_count_ = static_cast<std::size_t>(get("ball_count"));
   generated_porosity_ = get("generated_porosity");
   consolidated_height_ = get("consolidated_height");
   leg_ = static_cast<std::size_t>(get("leg"));
   leg_start_strain_ = get("leg_start_strain");
-    next_output_strain_ = get("next_output_strain");
+  next_output_strain_ = get("next_output_strain");
   next_fabric_ = static_cast<std::size_t>(get("next_fabric"));
   next_snapshot_ = static_cast<std::size_t>(get("next_snapshot"));
   last_restart_step_ = static_cast<std::int64_t>(get("last_restart_step"));
   path_ = ShearPath(consolidated_height_, get("path_strain"), Vec3(get("previous_relative_x"), get("previous_relative_y"), 0.0));
   wall_seconds_ = get("wall_seconds");
   steps_at_shear_start_ = static_cast<std::int64_t>(get("steps_at_shear_start"));
-  if (v.count("profile_bottom_x")) {
+  if (record.has("profile_bottom_x")) {
     interval.bottom = Vec3(get("profile_bottom_x"), get("profile_bottom_y"), get("profile_bottom_z"));
     interval.top = Vec3(get("profile_top_x"), get("profile_top_y"), get("profile_top_z"));
   }
   uniformity_->resume_interval(std::move(interval));
   // Files written before these were recorded leave them NaN.
-  auto optional = [&](const std::string& k) {
-    const auto it = v.find(k);
-    return it == v.end() ? std::numeric_limits<double>::quiet_NaN() : it->second;
-  };
+  const auto optional = [&](const std::string& k) { return record.number_or_nan(k); };
   for (const auto& [name, state] : {std::pair{"specimen_generated", &generated_state_}, std::pair{"specimen_consolidated", &consolidated_state_}}) {
     const std::string n = name;
     *state = {optional(n + "_porosity"), optional(n + "_sphere_porosity"), optional(n + "_coordination"),
@@ -209,16 +112,16 @@ void SimpleShearTest::restore_protocol_state(const std::string& text) {
   history_.resume(restart_folder_ / "history.csv", static_cast<std::size_t>(get("history_rows")));
   if (get("servo") > 0) {
     ServoSettings settings = servo_settings();
-    if (v.count("servo_target")) settings.target_stress = get("servo_target"), settings.max_speed = get("servo_max_speed");
+    if (record.has("servo_target")) settings.target_stress = get("servo_target"), settings.max_speed = get("servo_max_speed");
     servo_ = std::make_shared<ServoWall>(cell_.top, settings);
     servo_->hold_position(get("servo_holding") > 0);
-    if (v.count("servo_steps_on_target")) {
+    if (record.has("servo_steps_on_target")) {
       const double on_target = get("servo_steps_on_target");
       require(on_target >= 0 && on_target <= 9e15, "restart file: servo_steps_on_target", on_target, "a count of steps >= 0");
       servo_->resume_steps_on_target(static_cast<std::int64_t>(on_target));
     }
   }
-  auto flag = [&](const std::string& k) { return v.count(k) && v.at(k) > 0; };
+  const auto flag = [&](const std::string& k) { return record.flag(k); };
   generating_ = flag("generating");
   generation_floor_ = flag("generation_floor");
   consolidating_ = flag("consolidating");
@@ -237,8 +140,6 @@ void SimpleShearTest::restore_protocol_state(const std::string& text) {
     friction_now_ = get("friction_now");
     rolling_friction_now_ = get("rolling_friction_now");
   }
-  if (v.count("consolidation_start_step")) consolidation_start_step_ = static_cast<std::int64_t>(get("consolidation_start_step"));
+  if (record.has("consolidation_start_step")) consolidation_start_step_ = static_cast<std::int64_t>(get("consolidation_start_step"));
 }
-
-
 }  // namespace dem::lab

@@ -24,4 +24,8 @@ void save_checkpoint(const std::filesystem::path& path, const World& world, cons
 /// mismatched laws, or a field of the world state outside its allowed range.
 std::string load_checkpoint(const std::filesystem::path& path, World& world);
 
+/// The protocol text of a restart file alone (what a protocol asks before it builds a world for
+/// the file, e.g. the stage a specimen is in), after the same checks of the file as a whole.
+std::string read_checkpoint_protocol(const std::filesystem::path& path);
+
 }  // namespace dem::io

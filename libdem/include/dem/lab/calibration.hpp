@@ -13,7 +13,8 @@
 // One specimen for all trials: it is generated once (or taken from --from) and consolidated with
 // the starting E*, mu and mu_r of the configuration; every trial loads a consolidated restart with
 // its own contact parameters (the restart holds state, the configuration the laws) and shears it
-// along the first shear direction to the lab's largest strain. Rule for E*: a consolidated
+// along the first shear direction to the lab's largest strain, as a script over the lab toolkit's
+// parts (lab/specimen_file.hpp, lab/shear_leg.hpp, lab/history_log.hpp). Rule for E*: a consolidated
 // specimen is only reused for trials of the same E*, because E* sets the stiffness of the
 // contacts that carry the consolidation stress. A new E* consolidates the starting E*'s specimen
 // again at the new stiffness (SimpleShearTest::reconsolidate: same packing, other overlaps, a new
@@ -237,12 +238,11 @@ struct TrialResult {
 class ShearTrials {
  public:
   /// `base`: the simple-shear configuration (its ball-ball values are the starting ones, used
-  /// for generation and consolidation; its output_every_strain is the history interval of the
-  /// trials, and must be set before the specimens are consolidated: the first shear row of a
-  /// trial comes one such interval after the consolidation row). `from`: empty, or a restart
-  /// after generation or consolidation (InputError otherwise, or for a consolidated one when
-  /// `fit_modulus` with the Generated rule); a consolidated one is the specimen of the starting
-  /// E*, and keeps the output interval it was written with for the first row.
+  /// for generation and consolidation; its output.every_strain is the history interval of the
+  /// trials). `from`: empty, or a restart after generation or consolidation (InputError otherwise,
+  /// for a consolidated one when `fit_modulus` with the Generated rule, or for one whose folder
+  /// lacks its history.csv when `fit_modulus`: the other E*'s specimens continue it); a
+  /// consolidated one is the specimen of the starting E*.
   /// `farm`: the processes that share the specimens and trials; nullptr for this process alone.
   ShearTrials(SimpleShearConfig base, std::filesystem::path out_dir, std::filesystem::path from, bool fit_modulus,
               std::ostream& log, ModulusSpecimen rule = ModulusSpecimen::Reconsolidated, parallel::TaskFarm* farm = nullptr);
@@ -255,8 +255,11 @@ class ShearTrials {
   /// that existed. Every process of the farm calls it.
   std::vector<double> prepare(const std::vector<double>& moduli, int parallel, int threads);
   /// Shears the consolidated specimen of fit.effective_modulus (prepared before) with `fit` to
-  /// shear strain `strain` in trials/<number>/, a history row every output_every_strain of the
-  /// base configuration. Returns the model curve; the folder keeps history.csv and log.txt (and
+  /// shear strain `strain` in trials/<number>/. Its history.csv has a row for the consolidated
+  /// specimen, then one every output.every_strain of the base configuration and one at the end:
+  /// time, shear_strain, shear_stress, vertical_stress, height, volumetric_strain, lateral_stress
+  /// and balls_outside, as dem-simple-shear measures them. Returns the model curve; the folder
+  /// keeps history.csv and log.txt (and
   /// the Calibration adds result.csv, the trial's row of trials.csv). Runs on
   /// the process that calls it alone.
   ModelCurve shear(const ContactFit& fit, double strain, int number, int threads) const;

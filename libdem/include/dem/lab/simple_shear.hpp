@@ -48,6 +48,8 @@
 #include <dem/lab/shear_leg.hpp>
 #include <dem/lab/simple_shear_config.hpp>
 #include <dem/lab/simple_shear_parts.hpp>
+#include <dem/lab/specimen_file.hpp>
+#include <dem/lab/specimen_guards.hpp>
 #include <dem/lab/uniformity_probe.hpp>
 #include <dem/measure/measurement_sphere.hpp>
 
@@ -55,8 +57,6 @@ namespace dem::lab {
 
 class FabricLog;
 class SnapshotWriter;
-
-enum class ShearStage : int { Empty = 0, Generated = 1, Consolidated = 2, Shearing = 3, Done = 4 };
 
 /// What a restart file is loaded for: to continue the run that wrote it, or to consolidate a
 /// consolidated specimen again with new contact parameters (reconsolidate(); dem-consolidate
@@ -158,12 +158,12 @@ class SimpleShearTest {
   SpecimenState specimen_state() const;
   const SpecimenState& generated_state() const { return generated_state_; }
   const SpecimenState& consolidated_state() const { return consolidated_state_; }
-  /// Balls whose centre has left the specimen: beyond the inner radius of the ring at its height
-  /// plus a pebble radius, or beyond a plate. Each history row counts them; any stops the run.
-  std::size_t balls_outside() const;
+  /// Balls whose centre has left the specimen (lab/specimen_guards.hpp). Each history row counts
+  /// them; any stops the run.
+  std::size_t balls_outside() const { return lab::balls_outside(*world_, cell_); }
   /// Throws InstabilityError naming the first ball that left the specimen, where it is and the
   /// likely cause; nothing when none has.
-  void require_no_escape() const;
+  void require_no_escape() const { lab::require_no_escape(*world_, cell_, path_.strain()); }
   /// summary.json: counts, porosity, ASTM D6528 ratios, peak and final values, timing, and the
   /// keys a resume changed.
   void write_summary(const std::string& resolved_config_json) const;
@@ -210,7 +210,6 @@ class SimpleShearTest {
   /// Steps the settle of the generation (generation.steps_per_stage at most) until `done`.
   void settle_generation(const std::function<bool()>& done);
   void expand_radii(const RadiusExpansion& expansion);
-  void apply_restart_keys(const World& as_configured, const std::filesystem::path& file);
   /// Registers the history's columns: the state of the row (measure()), the uniformity probe's,
   /// the rings' displacements.
   void add_history_columns();
@@ -227,7 +226,6 @@ class SimpleShearTest {
   std::string protocol_state() const;
   void restore_protocol_state(const std::string& text);
   RunProgress progress_made() const;
-  void require_configured_grading(const std::filesystem::path& file) const;
   Vec3 leg_direction(std::size_t leg) const;
   ServoSettings servo_settings() const;
   double shear_servo_speed() const;  // m/s, cap of the servo plate while shearing

@@ -1,5 +1,5 @@
-// The simple-shear protocol's guards: balls that leave the specimen, and the configuration keys a
-// restart file also carries (applied from this run's configuration, or refused).
+#include <dem/lab/specimen_guards.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -7,7 +7,6 @@
 #include <sstream>
 
 #include <dem/core/errors.hpp>
-#include <dem/lab/simple_shear.hpp>
 
 namespace dem::lab {
 
@@ -28,11 +27,11 @@ const Clump& ring_at(const std::vector<Clump>& rings, double z) {
   return rings[best];
 }
 
-std::vector<Escape> escapes(const World& w, const Wall& bottom, const Wall& top, double specimen_height,
-                            double inner_radius, double pebble_radius) {
+std::vector<Escape> escapes(const World& w, const ShearCell& cell) {
   std::vector<Escape> out;
   const ParticleStore& p = w.particles();
-  const double z_bottom = bottom.displacement.z(), z_top = specimen_height + top.displacement.z();
+  const double z_bottom = w.wall(cell.bottom).displacement.z(), z_top = cell.built_height + w.wall(cell.top).displacement.z();
+  const double inner_radius = cell.radius, pebble_radius = cell.pebble_radius;
   for (std::size_t i = 0; i < p.size(); ++i) {
     if (p.is_pebble(i)) continue;
     const Vec3& x = p.x[i];
@@ -53,30 +52,26 @@ std::vector<Escape> escapes(const World& w, const Wall& bottom, const Wall& top,
 
 }  // namespace
 
-std::size_t SimpleShearTest::balls_outside() const {
-  return escapes(*world_, world_->wall(cell_.bottom), world_->wall(cell_.top), config_.specimen.height, config_.specimen.diameter / 2, cell_.pebble_radius)
-      .size();
-}
+std::size_t balls_outside(const World& world, const ShearCell& cell) { return escapes(world, cell).size(); }
 
-void SimpleShearTest::require_no_escape() const {
-  const std::vector<Escape> out =
-      escapes(*world_, world_->wall(cell_.bottom), world_->wall(cell_.top), config_.specimen.height, config_.specimen.diameter / 2, cell_.pebble_radius);
+void require_no_escape(const World& world, const ShearCell& cell, double shear_strain) {
+  const std::vector<Escape> out = escapes(world, cell);
   if (out.empty()) return;
   const Escape& e = out.front();
-  const ParticleStore& p = world_->particles();
+  const ParticleStore& p = world.particles();
   const Vec3& x = p.x[e.index];
   std::ostringstream msg;
   msg.precision(6);
-  msg << out.size() << " ball(s) left the specimen by step " << world_->step_count() << " (t = " << world_->time()
-      << " s, shear strain " << path_.strain() << "); the first, ball id " << p.id[e.index] << ", is at (" << x.x() << ", "
+  msg << out.size() << " ball(s) left the specimen by step " << world.step_count() << " (t = " << world.time()
+      << " s, shear strain " << shear_strain << "); the first, ball id " << p.id[e.index] << ", is at (" << x.x() << ", "
       << x.y() << ", " << x.z() << ") m: ";
   double stack_top = -std::numeric_limits<double>::infinity();
-  for (const Clump& ring : world_->clumps())
-    for (ParticleId pid : ring.pebbles) stack_top = std::max(stack_top, p.x[p.index_of(pid)].z() + cell_.pebble_radius);
+  for (const Clump& ring : world.clumps())
+    for (ParticleId pid : ring.pebbles) stack_top = std::max(stack_top, p.x[p.index_of(pid)].z() + cell.pebble_radius);
   if (e.above_top > 0 || e.below_bottom > 0)
     msg << (e.above_top > 0 ? "above the top plate" : "below the bottom plate")
         << ": it passed through a plate (too large a time step or too soft a ball-facet contact for the stress)";
-  else if (x.z() > stack_top - 2 * cell_.pebble_radius)
+  else if (x.z() > stack_top - 2 * cell.pebble_radius)
     msg << "beyond the rings at height " << x.z() << " m, the ring stack reaches " << stack_top
         << " m: it escaped over the top ring (a dilating specimen above a stack that does not follow it: "
         << "rings.vertical = follow, or a taller rings.stack_height)";
@@ -90,63 +85,87 @@ void SimpleShearTest::require_no_escape() const {
 // masses, the walls and rings as built. Keys that only set up the engine are applied again from
 // this run's configuration; keys that describe the specimen itself are refused when they differ,
 // since the specimen cannot be remade from the file.
-void SimpleShearTest::apply_restart_keys(const World& as_configured, const std::filesystem::path& file) {
+void apply_restart_keys(World& world, const World& as_configured, const ShearCell& cell, const SimpleShearConfig& config,
+                        const std::filesystem::path& file, std::ostream& log) {
   const std::string where = "restart file " + file.string() + ": ";
-  WorldSettings saved = world_->settings();
-  if (saved.local_damping != config_.engine.local_damping) {
-    world_->set_local_damping(config_.engine.local_damping);
-    log_ << "applied engine.local_damping = " << config_.engine.local_damping << " (the restart file had " << saved.local_damping << ")\n";
+  WorldSettings saved = world.settings();
+  if (saved.local_damping != config.engine.local_damping) {
+    world.set_local_damping(config.engine.local_damping);
+    log << "applied engine.local_damping = " << config.engine.local_damping << " (the restart file had " << saved.local_damping << ")\n";
   }
-  require(saved.time_step_safety == config_.engine.time_step_safety, where + "engine.time_step_safety", config_.engine.time_step_safety,
+  require(saved.time_step_safety == config.engine.time_step_safety, where + "engine.time_step_safety", config.engine.time_step_safety,
           "the file's value, " + std::to_string(saved.time_step_safety) + " (the time step of a running specimen is set by engine.time_step)");
-  if (saved.time_step != config_.engine.time_step) {
-    if (config_.engine.time_step > 0) {
-      world_->set_time_step(config_.engine.time_step);
+  if (saved.time_step != config.engine.time_step) {
+    if (config.engine.time_step > 0) {
+      world.set_time_step(config.engine.time_step);
     } else {
-      require(false, where + "engine.time_step", config_.engine.time_step,
+      require(false, where + "engine.time_step", config.engine.time_step,
               "the file's fixed step, " + std::to_string(saved.time_step) + " s, or another fixed step > 0 (0, automatic, "
               "would re-estimate the step mid-run)");
     }
-    log_ << "applied engine.time_step = " << config_.engine.time_step << " s (the restart file had " << saved.time_step << " s)\n";
+    log << "applied engine.time_step = " << config.engine.time_step << " s (the restart file had " << saved.time_step << " s)\n";
   }
   // The configuration's limit, not the one of the run that wrote the file (older files hold 0.5).
-  world_->set_max_overlap_ratio(config_.engine.max_overlap_ratio);
+  world.set_max_overlap_ratio(config.engine.max_overlap_ratio);
 
   // Balls: their density is part of the specimen (the first ball tells: all share one density).
-  const ParticleStore& p = world_->particles();
+  const ParticleStore& p = world.particles();
   std::size_t ball = 0;
   while (ball < p.size() && p.is_pebble(ball)) ++ball;
   if (ball < p.size()) {
-    const double expected = config_.specimen.density * 4.0 / 3.0 * pi * std::pow(p.radius[ball], 3);
-    require(std::abs(p.mass[ball] - expected) <= 1e-9 * expected, where + "specimen.density", config_.specimen.density,
-            "the density the specimen was made with (" + std::to_string(p.mass[ball] / expected * config_.specimen.density) +
+    const double expected = config.specimen.density * 4.0 / 3.0 * pi * std::pow(p.radius[ball], 3);
+    require(std::abs(p.mass[ball] - expected) <= 1e-9 * expected, where + "specimen.density", config.specimen.density,
+            "the density the specimen was made with (" + std::to_string(p.mass[ball] / expected * config.specimen.density) +
                 " kg/m^3)");
   }
   // Rings and plates as this configuration builds them: same count, pebbles and places.
   const auto& built = as_configured.clumps();
-  auto& rings = world_->clumps();
+  auto& rings = world.clumps();
   const bool same_stack = built.size() == rings.size() && [&] {
     for (std::size_t k = 0; k < rings.size(); ++k)
       if (rings[k].pebbles.size() != built[k].pebbles.size() ||
-          (rings[k].x - rings[k].displacement - built[k].x).norm() > 1e-9 * config_.specimen.diameter)
+          (rings[k].x - rings[k].displacement - built[k].x).norm() > 1e-9 * config.specimen.diameter)
         return false;
     return true;
   }();
   require(same_stack, where + "specimen.diameter, specimen.height, rings.pebble_diameter, rings.gap, rings.stack_height",
           "(as configured)", "the values the specimen was made with: resume with its configuration (the ring stack in the file differs)");
-  const double file_height = world_->wall(cell_.top).reference_point.z() - world_->wall(cell_.top).displacement.z();
-  require(std::abs(file_height - config_.specimen.height) <= 1e-9 * config_.specimen.height, where + "specimen.height", config_.specimen.height,
+  const double file_height = world.wall(cell.top).reference_point.z() - world.wall(cell.top).displacement.z();
+  require(std::abs(file_height - config.specimen.height) <= 1e-9 * config.specimen.height, where + "specimen.height", config.specimen.height,
           "the height the specimen was made with, " + std::to_string(file_height) + " m");
   for (std::size_t k = 0; k < rings.size(); ++k) {
     if (std::abs(rings[k].mass - built[k].mass) > 1e-12 * built[k].mass) {
-      if (k == 0) log_ << "applied rings.density = " << config_.rings.density << " kg/m^3 to the rings of the restart file\n";
+      if (k == 0) log << "applied rings.density = " << config.rings.density << " kg/m^3 to the rings of the restart file\n";
       rings[k].mass = built[k].mass;
       rings[k].inertia_body = built[k].inertia_body;
       rings[k].inv_inertia_body = built[k].inv_inertia_body;
-      ParticleStore& store = world_->particles();
+      ParticleStore& store = world.particles();
       for (ParticleId pid : rings[k].pebbles) store.inv_mass[store.index_of(pid)] = 1.0 / built[k].mass;
     }
   }
+}
+
+// A specimen resumed under another configuration would run with that configuration's contact
+// parameters and rings without a word (a 2D specimen under the 4D defaults softens and collapses).
+// Its ball sizes tell a different grading or size scale for certain.
+void require_configured_grading(const World& world, const SimpleShearConfig& config, const std::filesystem::path& file) {
+  const ParticleStore& p = world.particles();
+  double smallest = std::numeric_limits<double>::infinity(), largest = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (p.is_pebble(i)) continue;
+    smallest = std::min(smallest, 2 * p.radius[i]);
+    largest = std::max(largest, 2 * p.radius[i]);
+  }
+  if (largest == 0.0) return;  // no balls yet
+  const double tolerance = 1e-9;  // relative: the generation draws diameters inside the grading's range
+  const double low = config.grading.smallest(), high = config.grading.largest();
+  std::ostringstream found, allowed;
+  found << smallest * 1e3 << "-" << largest * 1e3 << " mm";
+  allowed << "within this run's grading, " << low * 1e3 << "-" << high * 1e3 << " mm (grading.scale = "
+          << config.grading.scale << "): resume with the configuration the specimen was made with (the same --preset "
+          << "and --config)";
+  require(smallest >= low * (1 - tolerance) && largest <= high * (1 + tolerance),
+          "restart file " + file.string() + ": ball diameters", found.str(), allowed.str());
 }
 
 }  // namespace dem::lab
