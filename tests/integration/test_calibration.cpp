@@ -247,7 +247,10 @@ TEST_CASE("calibration: a trial shears its own E*'s consolidated specimen, loade
   World world(world_settings(config));
   const ShearCell cell = build_shear_cell(world, shear_cell_spec(config));
   set_contact_laws(world, config, config.ball_ball.friction, config.ball_ball.rolling_friction, false);
-  CHECK_THROWS_WITH(load_consolidated_specimen(generated, world, cell, config, log), Contains("stage") && Contains("consolidated"));
+  CHECK_THROWS_WITH(load_consolidated_specimen(generated, world, cell, config, log),
+                    Contains(generated.string()) && Contains("stage") && Contains("consolidated"));
+  CHECK_THROWS_WITH(restart_stage(consolidated.parent_path()), Contains("is a folder") && Contains("consolidated.restart"));
+  CHECK_THROWS_WITH(restart_stage(consolidated.parent_path() / "history.csv"), Contains("not a libdem restart file"));
 }
 
 TEST_CASE("calibration: E* and mu are recovered from a curve made with known values, and a rerun reuses every trial",

@@ -61,6 +61,10 @@ struct Checkpoint {
 };
 
 Checkpoint read_framed(const std::filesystem::path& path) {
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error))
+    throw InputError("restart file " + path.string() + " is a folder: give the restart file in it, e.g. " +
+                     (path / "consolidated.restart").string() + " or " + (path / "restart.restart").string());
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError("restart file " + path.string() + ": cannot be opened");
   const std::string file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

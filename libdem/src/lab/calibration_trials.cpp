@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include <dem/core/errors.hpp>
+#include <dem/io/checkpoint.hpp>
 #include <dem/io/csv.hpp>
 #include <dem/lab/history_log.hpp>
 #include <dem/lab/shear_leg.hpp>
@@ -53,6 +54,8 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 // measured as SimpleShearTest measures them; the first row is this specimen's own consolidated
 // state.
 void shear_specimen(const SimpleShearConfig& c, const fs::path& restart, const fs::path& history_file, std::ostream& log) {
+  c.validate();
+  require(c.shear.total_strain() > 0.0, "trial shear strain", c.shear.total_strain(), "> 0");
   const auto t0 = std::chrono::steady_clock::now();
   World world(world_settings(c));
   const ShearCell cell = build_shear_cell(world, shear_cell_spec(c));
@@ -89,6 +92,7 @@ void shear_specimen(const SimpleShearConfig& c, const fs::path& restart, const f
     start_shear_leg(world, cell, servo, shear_leg_motion(c, legs[leg].direction_deg, rate, height));
   };
   ShearPath path(world, cell, height);
+  const std::int64_t first_step = world.step_count();
   double leg_start = 0.0, next_row = c.output.every_strain;
   start_leg();
   while (leg < legs.size()) {
@@ -106,8 +110,21 @@ void shear_specimen(const SimpleShearConfig& c, const fs::path& restart, const f
     }
   }
   stop_shear(world, cell);
-  log << "shear done in " << seconds_since(t0) << " s, " << world.step_count() << " steps, shear stress "
+  log << "shear done in " << seconds_since(t0) << " s, " << world.step_count() - first_step << " steps, shear stress "
       << history.last("shear_stress") / 1e3 << " kPa at strain " << path.strain() << "\n";
+}
+
+// Refuses, before any work, a --from specimen that this configuration cannot go on from: its balls
+// against the grading, its engine and specimen keys against the configuration.
+void check_specimen_file(const SimpleShearConfig& c, const fs::path& file) {
+  World world(world_settings(c));
+  const ShearCell cell = build_shear_cell(world, shear_cell_spec(c));
+  set_contact_laws(world, c, c.ball_ball.friction, c.ball_ball.rolling_friction, false);
+  const World as_configured = world;
+  io::load_checkpoint(file, world);
+  std::ostringstream applied;  // the keys a trial applies again: logged by each trial
+  require_configured_grading(world, c, file);
+  apply_restart_keys(world, as_configured, cell, c, file, applied);
 }
 
 }  // namespace
@@ -131,11 +148,18 @@ ShearTrials::ShearTrials(SimpleShearConfig base, fs::path out_dir, fs::path from
 
   // Which stage does the restart hold? The leading process reads it for all.
   const std::string stage_text = farm_->on_leader([&] {
+    ShearStage held = ShearStage::Empty;
     try {
-      return std::to_string(static_cast<int>(restart_stage(from)));
+      held = restart_stage(from);
+      check_specimen_file(base_, from);
     } catch (const InputError& e) {
       throw InputError("--from " + from.string() + ": " + e.what());
     }
+    // Specimens of other E* are consolidated again from a consolidated one, continuing its history.
+    if (held == ShearStage::Consolidated && fit_modulus)
+      require(fs::exists(from.parent_path() / "history.csv"), "--from " + from.string() + ": history.csv beside it",
+              "(missing)", "the folder the restart was written in, with the history.csv written with it");
+    return std::to_string(static_cast<int>(held));
   });
   const auto stage = static_cast<ShearStage>(std::stoi(stage_text));
   if (stage == ShearStage::Generated) {
@@ -145,10 +169,6 @@ ShearTrials::ShearTrials(SimpleShearConfig base, fs::path out_dir, fs::path from
     require(!fit_modulus || rule_ == ModulusSpecimen::Reconsolidated, "--from", from.string() + " (a consolidated specimen)",
             "a restart right after generation when E* is fitted with calibration.modulus_specimen = generated (every E* "
             "is then consolidated from the generated state); use modulus_specimen = reconsolidated, fit without emod, or drop --from");
-    // Specimens of other E* are consolidated again from it, continuing its history.
-    if (fit_modulus)
-      require(fs::exists(from.parent_path() / "history.csv"), "--from " + from.string() + ": history.csv beside it",
-              "(missing)", "the folder the restart was written in, with the history.csv written with it");
     given_consolidated_ = from;
   } else {
     throw InputError("--from " + from.string() + ": stage " + std::to_string(static_cast<int>(stage)) +

@@ -2,10 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <limits>
 #include <ostream>
-#include <sstream>
 
 #include <dem/core/errors.hpp>
 #include <dem/io/checkpoint.hpp>
@@ -296,10 +293,6 @@ void SimpleShearTest::save_restart(const std::filesystem::path& file) const {
 
 void SimpleShearTest::load_restart(const std::filesystem::path& file, ResumeIntent intent) {
   require(!folder_, "load_restart() after the output folder was opened", file.string(), "a restart loaded before any stage ran");
-  std::error_code error;
-  if (std::filesystem::is_directory(file, error))
-    throw InputError("restart file " + file.string() + " is a folder: give the restart file in it, e.g. " +
-                     (file / "consolidated.restart").string() + " or " + (file / "restart.restart").string());
   require(restart_folder_.empty(), "load_restart() a second time", file.string(), "one restart file per test");
   // The walls, rings and contact models are as configured (the constructor's); the file supplies the state.
   const World as_configured = *world_;

@@ -111,15 +111,9 @@ void SimpleShearTest::restore_protocol_state(const std::string& text) {
   // Keep the history written up to the restart point; later rows belong to the run that stopped.
   history_.resume(restart_folder_ / "history.csv", static_cast<std::size_t>(get("history_rows")));
   if (get("servo") > 0) {
-    ServoSettings settings = servo_settings();
-    if (record.has("servo_target")) settings.target_stress = get("servo_target"), settings.max_speed = get("servo_max_speed");
-    servo_ = std::make_shared<ServoWall>(cell_.top, settings);
+    servo_ = std::make_shared<ServoWall>(cell_.top, recorded_servo(record, servo_settings()));
     servo_->hold_position(get("servo_holding") > 0);
-    if (record.has("servo_steps_on_target")) {
-      const double on_target = get("servo_steps_on_target");
-      require(on_target >= 0 && on_target <= 9e15, "restart file: servo_steps_on_target", on_target, "a count of steps >= 0");
-      servo_->resume_steps_on_target(static_cast<std::int64_t>(on_target));
-    }
+    if (record.has("servo_steps_on_target")) servo_->resume_steps_on_target(recorded_steps_on_target(record));
   }
   const auto flag = [&](const std::string& k) { return record.flag(k); };
   generating_ = flag("generating");

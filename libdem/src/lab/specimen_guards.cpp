@@ -1,3 +1,5 @@
+// Guards of a specimen in a shear cell: balls that left it, and a loaded restart file's specimen
+// and engine keys against this run's configuration.
 #include <dem/lab/specimen_guards.hpp>
 
 #include <algorithm>

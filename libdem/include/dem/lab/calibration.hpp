@@ -259,9 +259,8 @@ class ShearTrials {
   /// specimen, then one every output.every_strain of the base configuration and one at the end:
   /// time, shear_strain, shear_stress, vertical_stress, height, volumetric_strain, lateral_stress
   /// and balls_outside, as dem-simple-shear measures them. Returns the model curve; the folder
-  /// keeps history.csv and log.txt (and
-  /// the Calibration adds result.csv, the trial's row of trials.csv). Runs on
-  /// the process that calls it alone.
+  /// keeps history.csv and log.txt (and the Calibration adds result.csv, the trial's row of
+  /// trials.csv). Runs on the process that calls it alone.
   ModelCurve shear(const ContactFit& fit, double strain, int number, int threads) const;
   /// The history of a finished trial, or nullopt if its folder has none.
   std::optional<ModelCurve> stored_curve(int number) const;

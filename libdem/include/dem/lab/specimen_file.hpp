@@ -29,19 +29,28 @@ struct ProtocolRecord {
   std::map<std::string, double> values;
   std::vector<std::pair<std::string, std::string>> configuration;
   std::vector<Vec3> profile_reference;
+  std::string source = "restart file";  // where the record came from, for error messages
 
   bool has(const std::string& key) const { return values.count(key) != 0; }
-  /// The number of `key`; InputError when the record has none.
+  /// The number of `key`; InputError naming the source when the record has none.
   double number(const std::string& key) const;
   /// The number of `key`, NaN when the record has none (keys that older files lack).
   double number_or_nan(const std::string& key) const;
-  /// Whether `key` is there and not zero.
+  /// Whether `key` is there and above zero (true in JSON).
   bool flag(const std::string& key) const { return has(key) && values.at(key) > 0; }
 };
 
-/// Reads a record: a JSON object, or the "key value" lines of restart files written before the
-/// record was JSON. InputError for a record that is neither.
-ProtocolRecord read_protocol_record(const std::string& text);
+/// Reads a record: a JSON object (InputError naming `source` when it does not parse, is not an
+/// object or holds a value that is not a number, true/false or null), or, for text that does not
+/// start with '{', the "key value" lines of restart files written before the record was JSON.
+ProtocolRecord read_protocol_record(const std::string& text, const std::string& source = "restart file");
+
+/// The top plate's servo as a record left it: `configured` with the record's target stress and
+/// speed cap, or `configured` as it is for records written before those were kept.
+ServoSettings recorded_servo(const ProtocolRecord& record, ServoSettings configured);
+/// The steps the record's servo had been on its target (0 for records without it); InputError for
+/// a count below zero.
+std::int64_t recorded_steps_on_target(const ProtocolRecord& record);
 
 /// The stage of the specimen in a restart file, read without loading its world.
 ShearStage restart_stage(const std::filesystem::path& file);
@@ -58,7 +67,13 @@ struct ConsolidatedSpecimen {
 /// (set_contact_laws): the balls, rings, plates, contacts, time and step of the file. Then the guards
 /// of lab/specimen_guards.hpp (grading, engine and specimen keys, changes logged to `log`), and the
 /// rings released as `config` says (release_rings). InputError naming the file when it holds no
-/// consolidated specimen (stage 2) or a guard refuses it.
+/// consolidated specimen (stage 2) or a guard refuses it. The servo and the controller are the
+/// caller's, as in a shear from it:
+///
+///   ServoWall servo(cell.top, specimen.servo);
+///   servo.resume_steps_on_target(specimen.servo_steps_on_target);
+///   world.add_controller([&](World& w) { servo(w); move_rings(w, cell, true); });
+///   start_shear_leg(world, cell, servo, shear_leg_motion(config, 0.0, rate, specimen.height));
 ConsolidatedSpecimen load_consolidated_specimen(const std::filesystem::path& file, World& world, const ShearCell& cell,
                                                 const SimpleShearConfig& config, std::ostream& log);
 

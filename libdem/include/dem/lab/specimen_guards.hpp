@@ -25,10 +25,12 @@ void require_no_escape(const World& world, const ShearCell& cell, double shear_s
 void require_configured_grading(const World& world, const SimpleShearConfig& config, const std::filesystem::path& file);
 
 /// After a restart file is loaded into `world`, which was built as `as_configured` from `config`:
-/// applies the engine keys of `config` again (local damping, a fixed time step, the overlap limit,
-/// the rings' density; each change logged to `log`). A key that describes the specimen (density,
-/// height, ring stack, time_step_safety) and differs from what the file's specimen was made with
-/// is refused with an InputError naming `file`, the key and the file's value (docs/restart.md).
+/// applies this configuration's engine.local_damping, engine.max_overlap_ratio, rings.density and
+/// a fixed engine.time_step again (each change logged to `log`). Refused with an InputError naming
+/// `file`, the key and the file's value: engine.time_step = 0 (automatic) where the file ran a
+/// fixed step of another length, another engine.time_step_safety, and the keys of the specimen
+/// itself (specimen.density, specimen.height, the ring stack), which the file's specimen was made
+/// with (docs/restart.md).
 void apply_restart_keys(World& world, const World& as_configured, const ShearCell& cell, const SimpleShearConfig& config,
                         const std::filesystem::path& file, std::ostream& log);
 
