@@ -163,7 +163,7 @@ void World::plan_domains() {
   });
   contacts.for_each_wall_set([&](const WallContacts& c) {
     for (std::size_t k = 0; k < c.size(); ++k)
-      work[static_cast<std::size_t>(c.ball[k])] += c.surfaces ? 1 : triangle_test_weight * (c.triangle_end[k] - c.triangle_begin[k]);
+      work[static_cast<std::size_t>(c.ball[k])] += c.surfaces ? analytic_wall_weight : triangle_test_weight * (c.triangle_end[k] - c.triangle_begin[k]);
   });
   std::int64_t total = 0;
   for (const std::int64_t w : work) total += w;

@@ -13,7 +13,6 @@
 #include <sstream>
 
 #include <dem/core/errors.hpp>
-#include <dem/io/checkpoint.hpp>
 #include <dem/io/csv.hpp>
 #include <dem/lab/history_log.hpp>
 #include <dem/lab/shear_leg.hpp>
@@ -48,6 +47,15 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// A world of the configuration `c`: its shear cell and contact laws, no balls yet.
+struct TrialWorld {
+  World world;
+  ShearCell cell;
+  explicit TrialWorld(const SimpleShearConfig& c) : world(world_settings(c)), cell(build_shear_cell(world, shear_cell_spec(c))) {
+    set_contact_laws(world, c, c.ball_ball.friction, c.ball_ball.rolling_friction, false);
+  }
+};
+
 // A trial from the toolkit's parts: the consolidated specimen of `restart` sheared along the legs of
 // `c` (one, to the lab's largest strain) as SimpleShearTest::shear() shears it, with a history row
 // at every output.every_strain and at the end. The columns model_curve_from_history reads are
@@ -57,9 +65,9 @@ void shear_specimen(const SimpleShearConfig& c, const fs::path& restart, const f
   c.validate();
   require(c.shear.total_strain() > 0.0, "trial shear strain", c.shear.total_strain(), "> 0");
   const auto t0 = std::chrono::steady_clock::now();
-  World world(world_settings(c));
-  const ShearCell cell = build_shear_cell(world, shear_cell_spec(c));
-  set_contact_laws(world, c, c.ball_ball.friction, c.ball_ball.rolling_friction, false);
+  TrialWorld trial(c);
+  World& world = trial.world;
+  const ShearCell& cell = trial.cell;
   const ConsolidatedSpecimen specimen = load_consolidated_specimen(restart, world, cell, c, log);
   ServoWall servo(cell.top, specimen.servo);
   servo.resume_steps_on_target(specimen.servo_steps_on_target);
@@ -117,14 +125,9 @@ void shear_specimen(const SimpleShearConfig& c, const fs::path& restart, const f
 // Refuses, before any work, a --from specimen that this configuration cannot go on from: its balls
 // against the grading, its engine and specimen keys against the configuration.
 void check_specimen_file(const SimpleShearConfig& c, const fs::path& file) {
-  World world(world_settings(c));
-  const ShearCell cell = build_shear_cell(world, shear_cell_spec(c));
-  set_contact_laws(world, c, c.ball_ball.friction, c.ball_ball.rolling_friction, false);
-  const World as_configured = world;
-  io::load_checkpoint(file, world);
+  TrialWorld trial(c);
   std::ostringstream applied;  // the keys a trial applies again: logged by each trial
-  require_configured_grading(world, c, file);
-  apply_restart_keys(world, as_configured, cell, c, file, applied);
+  load_specimen(file, trial.world, trial.cell, c, applied);
 }
 
 }  // namespace

@@ -132,17 +132,23 @@ ShearStage restart_stage(const std::filesystem::path& file) {
   return static_cast<ShearStage>(static_cast<int>(stage));
 }
 
+ProtocolRecord load_specimen(const std::filesystem::path& file, World& world, const ShearCell& cell,
+                             const SimpleShearConfig& config, std::ostream& log) {
+  const World as_configured = world;
+  ProtocolRecord record = read_protocol_record(io::load_checkpoint(file, world), "restart file " + file.string());
+  if (!record.flag("generating")) require_configured_grading(world, config, file);  // growing balls are smaller
+  apply_restart_keys(world, as_configured, cell, config, file, log);
+  return record;
+}
+
 ConsolidatedSpecimen load_consolidated_specimen(const std::filesystem::path& file, World& world, const ShearCell& cell,
                                                 const SimpleShearConfig& config, std::ostream& log) {
-  const std::string source = "restart file " + file.string();
-  const World as_configured = world;
-  const ProtocolRecord record = read_protocol_record(io::load_checkpoint(file, world), source);
+  const ProtocolRecord record = load_specimen(file, world, cell, config, log);
+  const std::string& source = record.source;
   const double stage = record.number("stage");
   require(stage == static_cast<int>(ShearStage::Consolidated), source + ": stage", stage,
           "2, a consolidated specimen (e.g. dem-consolidate's consolidated.restart)");
   require(record.flag("servo"), source + ": servo", "(none)", "the top plate's servo of the consolidation");
-  require_configured_grading(world, config, file);
-  apply_restart_keys(world, as_configured, cell, config, file, log);
   release_rings(world, cell);
   ConsolidatedSpecimen specimen;
   specimen.height = record.number("consolidated_height");

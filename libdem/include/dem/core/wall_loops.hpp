@@ -229,10 +229,9 @@ template <ContactLaw Law>
 void compute_walls(const typename Law::Params& params, WallContacts& c, const KernelContext& ctx,
                    OverlapMonitor& worst) {
   if (c.surfaces) {
-    // One closest-point formula per candidate, then the law: about two pair candidates' work (25
-    // against 17 ns a candidate on the 14k benchmark). Counted as one, the 14k benchmark's 3,400
-    // candidates ran on one thread, a tenth of a two-thread step.
-    wall_loop<Law>(params, c, ctx, worst, 2 * static_cast<std::int64_t>(c.size()),
+    // Counted as one pair candidate each, the 14k benchmark's 3,400 candidates ran on one thread,
+    // a tenth of a two-thread step.
+    wall_loop<Law>(params, c, ctx, worst, analytic_wall_weight * static_cast<std::int64_t>(c.size()),
                    [](std::int64_t, const Wall& wall, const Vec3& centre, double& best_sq) {
                      const Vec3 closest = wall.surface.closest_point(centre);
                      best_sq = (closest - centre).squaredNorm();

@@ -55,6 +55,15 @@ std::int64_t recorded_steps_on_target(const ProtocolRecord& record);
 /// The stage of the specimen in a restart file, read without loading its world.
 ShearStage restart_stage(const std::filesystem::path& file);
 
+/// Loads the specimen of `file`, at any stage, into `world`, which holds the shear cell `cell` built
+/// from `config` (build_shear_cell with shear_cell_spec) and the protocol's contact laws
+/// (set_contact_laws): the balls, rings, plates, contacts, time and step of the file. Then the guards
+/// of lab/specimen_guards.hpp: the grading (unless the balls are still growing), the engine and
+/// specimen keys (changes logged to `log`). Returns the file's record; InputError naming the file
+/// when a guard refuses it.
+ProtocolRecord load_specimen(const std::filesystem::path& file, World& world, const ShearCell& cell,
+                             const SimpleShearConfig& config, std::ostream& log);
+
 /// A consolidated specimen as its restart file holds it, beyond the world's state.
 struct ConsolidatedSpecimen {
   double height = 0.0;                     // m, H_c: the plate gap after consolidation
@@ -62,13 +71,10 @@ struct ConsolidatedSpecimen {
   std::int64_t servo_steps_on_target = 0;  // steps the servo has been on its target
 };
 
-/// Loads the consolidated specimen of `file` into `world`, which holds the shear cell `cell` built
-/// from `config` (build_shear_cell with shear_cell_spec) and the protocol's contact laws
-/// (set_contact_laws): the balls, rings, plates, contacts, time and step of the file. Then the guards
-/// of lab/specimen_guards.hpp (grading, engine and specimen keys, changes logged to `log`), and the
-/// rings released as `config` says (release_rings). InputError naming the file when it holds no
-/// consolidated specimen (stage 2) or a guard refuses it. The servo and the controller are the
-/// caller's, as in a shear from it:
+/// Loads the consolidated specimen of `file` as load_specimen does, then releases the rings as
+/// `config` says (release_rings). InputError naming the file when it holds no consolidated
+/// specimen (stage 2) or a guard refuses it. The servo and the controller are the caller's, as in a
+/// shear from it:
 ///
 ///   ServoWall servo(cell.top, specimen.servo);
 ///   servo.resume_steps_on_target(specimen.servo_steps_on_target);
