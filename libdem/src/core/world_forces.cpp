@@ -1,9 +1,10 @@
 // Contact forces of one step: each contact type runs its own law-typed loop, adding each contact's
 // force and torque into its particles' sums in contact order. With several threads, each takes a
-// contiguous share of the contacts; a particle with contacts in two shares gets the first share's
-// parts directly and the later shares' parts afterwards, in share order (contact_loops.hpp). So
-// every particle's sum is the serial one, bit for bit, for any thread count, and only the few
-// particles on the shares' borders cost a deferred add.
+// contiguous share of the contacts, sized by the speed it showed; a particle with contacts in two
+// shares gets the first share's parts directly and the later shares' parts afterwards, in share
+// order (contact_loops.hpp). So every particle's sum is the serial one, bit for bit, for any
+// thread count and any split, and only the few particles on the shares' borders cost a deferred
+// add.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -43,17 +44,33 @@ void World::plan_shares() {
       const auto s = static_cast<std::size_t>(k);
       return near[s] == 0 ? 0 : c.normal_force[s] > 0.0 ? 4 : 1;
     };
+    // Each thread's share of the work: equal, or in proportion to the speed each thread showed in
+    // its share since the last plan. A VM's cores can differ by a third in speed (and a laptop's
+    // performance and efficiency cores by more): an equal split waits for the slowest.
+    const std::vector<double> fraction =
+        c.share_work.size() == static_cast<std::size_t>(threads)
+            ? speed_fractions(c.share_work, c.share_seconds)
+            : std::vector<double>(static_cast<std::size_t>(threads), 1.0 / threads);
     std::vector<std::int64_t>& shares = c.shares;
     shares.assign(1, 0);
     std::int64_t total = 0;
     for (std::int64_t k = 0; k < count; ++k) total += work(k);
     std::int64_t done = 0;
+    double goal = fraction[0] * static_cast<double>(total);
     for (std::int64_t k = 0; k < count && static_cast<int>(shares.size()) < threads; ++k) {
       done += work(k);
-      if (done * threads >= total * static_cast<std::int64_t>(shares.size())) shares.push_back(k + 1);
+      if (static_cast<double>(done) >= goal) {
+        shares.push_back(k + 1);
+        goal += fraction[shares.size() - 1] * static_cast<double>(total);
+      }
     }
     while (static_cast<int>(shares.size()) < threads) shares.push_back(count);
     shares.push_back(count);
+    c.share_work.assign(static_cast<std::size_t>(threads), 0);
+    for (int t = 0; t < threads; ++t)
+      for (std::int64_t k = shares[static_cast<std::size_t>(t)]; k < shares[static_cast<std::size_t>(t) + 1]; ++k)
+        c.share_work[static_cast<std::size_t>(t)] += work(k);
+    c.share_seconds.assign(static_cast<std::size_t>(threads), 0.0);
     owner.assign(n, -1);
     for (int t = 0; t < threads; ++t)
       for (std::int64_t k = shares[static_cast<std::size_t>(t)]; k < shares[static_cast<std::size_t>(t) + 1]; ++k)

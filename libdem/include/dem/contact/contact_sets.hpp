@@ -56,8 +56,13 @@ struct PairContacts {
   /// In a dense packing about a quarter of the candidates are that far apart.
   std::vector<std::int32_t> near;
   /// With several threads, thread t takes the contacts [shares[t], shares[t + 1]) (planned by
-  /// the World, weighted by which contacts touch, so that the threads finish together).
+  /// the World, weighted by which contacts touch and by how fast each thread went, so that the
+  /// threads finish together).
   std::vector<std::int64_t> shares;
+  /// Per share: its work units when planned, and the seconds its thread has spent in it since
+  /// (the next plan gives a thread on a faster core a larger share).
+  std::vector<std::int64_t> share_work;
+  std::vector<double> share_seconds;
   /// Scratch of a threaded step: share t's parts of the particles shared with earlier shares
   /// (KernelContext::shared), added after the loop in share order.
   std::vector<std::vector<DeferredSum>> deferred;

@@ -433,8 +433,15 @@ void compute_pairs(const typename Law::Params& params, PairContacts& c, const Ke
     end = std::lower_bound(c.near.begin(), c.near.end(), end) - c.near.begin();
     // The first share comes first in contact order: it adds into the shared particles directly.
     std::vector<DeferredSum>* later = &c.deferred[static_cast<std::size_t>(me)];
+#if defined(_OPENMP)
+    const double started = omp_get_wtime();
+#endif
     if (as_planned && me > 0) pair_share<Law, true>(params, c, ctx, begin, end, later, local);
     else pair_share<Law, false>(params, c, ctx, begin, end, later, local);
+#if defined(_OPENMP)
+    if (as_planned && threads > 1 && c.share_seconds.size() == static_cast<std::size_t>(threads))
+      c.share_seconds[static_cast<std::size_t>(me)] += omp_get_wtime() - started;
+#endif
 #pragma omp critical(dem_overlap_monitor)
     merge_worst(worst, local);
   }
