@@ -36,8 +36,8 @@ void World::plan_shares() {
   state_.contacts.for_each_pair_set([&](PairContacts& c) {
     const auto count = static_cast<std::int64_t>(c.size());
     const int threads = threads_for(count, threads_);
-    // Equal work per share: a touching contact costs about four separated near candidates, and
-    // the loops skip the others.
+    // Work units: a touching contact costs about four separated near candidates, and the loops
+    // skip the others.
     std::vector<std::uint8_t> near(static_cast<std::size_t>(count), 0);
     for (const std::int32_t k : c.near) near[static_cast<std::size_t>(k)] = 1;
     auto work = [&c, &near](std::int64_t k) -> std::int64_t {
@@ -56,20 +56,24 @@ void World::plan_shares() {
     std::int64_t total = 0;
     for (std::int64_t k = 0; k < count; ++k) total += work(k);
     std::int64_t done = 0;
+    std::vector<std::int64_t> done_at_share(1, 0);  // work before each share's first contact
     double goal = fraction[0] * static_cast<double>(total);
     for (std::int64_t k = 0; k < count && static_cast<int>(shares.size()) < threads; ++k) {
       done += work(k);
       if (static_cast<double>(done) >= goal) {
         shares.push_back(k + 1);
+        done_at_share.push_back(done);
         goal += fraction[shares.size() - 1] * static_cast<double>(total);
       }
     }
-    while (static_cast<int>(shares.size()) < threads) shares.push_back(count);
+    while (static_cast<int>(shares.size()) < threads) {
+      shares.push_back(count);
+      done_at_share.push_back(total);
+    }
     shares.push_back(count);
-    c.share_work.assign(static_cast<std::size_t>(threads), 0);
-    for (int t = 0; t < threads; ++t)
-      for (std::int64_t k = shares[static_cast<std::size_t>(t)]; k < shares[static_cast<std::size_t>(t) + 1]; ++k)
-        c.share_work[static_cast<std::size_t>(t)] += work(k);
+    done_at_share.push_back(total);
+    c.share_work.resize(static_cast<std::size_t>(threads));
+    for (std::size_t t = 0; t < c.share_work.size(); ++t) c.share_work[t] = done_at_share[t + 1] - done_at_share[t];
     c.share_seconds.assign(static_cast<std::size_t>(threads), 0.0);
     owner.assign(n, -1);
     for (int t = 0; t < threads; ++t)
