@@ -1,8 +1,10 @@
-// The threads' shares of a loop: what speed_fractions gives for measured speeds. The expected
-// fractions are ratios of small integers, so the tolerance only absorbs a few double roundings.
+// The threads' shares of a loop: what speed_fractions gives for measured speeds, and where
+// share_begin and split_work put the borders. The expected values are ratios of small integers,
+// so the tolerance only absorbs a few double roundings.
 #include <dem/core/parallel.hpp>
 
 #include <catch2/catch.hpp>
+#include <cstdint>
 #include <vector>
 
 using dem::speed_fractions;
@@ -37,5 +39,49 @@ TEST_CASE("speed_fractions: shares in proportion to measured speed, floored at h
     CHECK(speed_fractions({0, 100}, {1.0, 1.0}) == std::vector<double>{0.5, 0.5});
     CHECK(speed_fractions({100, 100}, {1.0}) == std::vector<double>{0.5, 0.5});
     CHECK(speed_fractions({100}, {1.0}) == std::vector<double>{1.0});
+  }
+}
+
+TEST_CASE("share_begin: a loop's items split by the threads' fractions", "[parallel]") {
+  using dem::share_begin;
+  SECTION("without fractions, or with the wrong number of them, the shares are equal") {
+    CHECK(share_begin(1000, nullptr, 2, 1) == 500);
+    const std::vector<double> three{0.2, 0.3, 0.5};
+    CHECK(share_begin(1000, &three, 2, 1) == 500);
+    CHECK(share_begin(7, nullptr, 3, 1) == 2);  // 7 * 1 / 3, rounded down as the loops did
+  }
+  SECTION("shares follow the fractions and cover every item once") {
+    const std::vector<double> f{0.25, 0.75};
+    CHECK(share_begin(1000, &f, 2, 0) == 0);
+    CHECK(share_begin(1000, &f, 2, 1) == 250);
+    CHECK(share_begin(1000, &f, 2, 2) == 1000);
+  }
+  SECTION("fractions summing to a little over 1 never reach past the last item") {
+    const std::vector<double> f{0.6, 0.6};
+    CHECK(share_begin(10, &f, 2, 1) == 6);
+    CHECK(share_begin(10, &f, 2, 2) == 10);
+  }
+}
+
+TEST_CASE("split_work: contiguous shares of equal work, and of measured fractions", "[parallel]") {
+  using dem::split_work;
+  // items of work 1, 1, 1, 1, 4, 4 (total 12)
+  const std::vector<std::int64_t> units{1, 1, 1, 1, 4, 4};
+  const auto work = [&units](std::int64_t k) { return units[static_cast<std::size_t>(k)]; };
+  SECTION("two equal shares: the first ends where the work reaches 6") {
+    std::vector<std::int64_t> share_work;
+    const auto border = split_work(6, {0.5, 0.5}, work, &share_work);
+    CHECK(border == std::vector<std::int64_t>{0, 5, 6});  // 1+1+1+1+4 = 8 >= 6 at item 4
+    CHECK(share_work == std::vector<std::int64_t>{8, 4});
+  }
+  SECTION("a quarter and three quarters") {
+    std::vector<std::int64_t> share_work;
+    const auto border = split_work(6, {0.25, 0.75}, work, &share_work);
+    CHECK(border == std::vector<std::int64_t>{0, 3, 6});  // 3 >= 12 / 4 at item 2
+    CHECK(share_work == std::vector<std::int64_t>{3, 9});
+  }
+  SECTION("more shares than work: the last ones are empty and end at the count") {
+    const auto border = split_work(2, {0.25, 0.25, 0.25, 0.25}, [](std::int64_t) { return std::int64_t{1}; });
+    CHECK(border == std::vector<std::int64_t>{0, 1, 2, 2, 2});
   }
 }

@@ -51,29 +51,9 @@ void World::plan_shares() {
         c.share_work.size() == static_cast<std::size_t>(threads)
             ? speed_fractions(c.share_work, c.share_seconds)
             : std::vector<double>(static_cast<std::size_t>(threads), 1.0 / threads);
-    std::vector<std::int64_t>& shares = c.shares;
-    shares.assign(1, 0);
-    std::int64_t total = 0;
-    for (std::int64_t k = 0; k < count; ++k) total += work(k);
-    std::int64_t done = 0;
-    std::vector<std::int64_t> done_at_share(1, 0);  // work before each share's first contact
-    double goal = fraction[0] * static_cast<double>(total);
-    for (std::int64_t k = 0; k < count && static_cast<int>(shares.size()) < threads; ++k) {
-      done += work(k);
-      if (static_cast<double>(done) >= goal) {
-        shares.push_back(k + 1);
-        done_at_share.push_back(done);
-        goal += fraction[shares.size() - 1] * static_cast<double>(total);
-      }
-    }
-    while (static_cast<int>(shares.size()) < threads) {
-      shares.push_back(count);
-      done_at_share.push_back(total);
-    }
-    shares.push_back(count);
-    done_at_share.push_back(total);
-    c.share_work.resize(static_cast<std::size_t>(threads));
-    for (std::size_t t = 0; t < c.share_work.size(); ++t) c.share_work[t] = done_at_share[t + 1] - done_at_share[t];
+    if (c.kind == ContactKind::BallBall) thread_fractions_ = fraction;
+    c.shares = split_work(count, fraction, work, &c.share_work);
+    const std::vector<std::int64_t>& shares = c.shares;
     c.share_seconds.assign(static_cast<std::size_t>(threads), 0.0);
     owner.assign(n, -1);
     for (int t = 0; t < threads; ++t)
@@ -112,6 +92,7 @@ void World::compute_forces() {
   if (parallel) {
     plan_shares();
     ctx.shared = shared_.data();
+    ctx.thread_fractions = &thread_fractions_;
   }
   auto lap = std::chrono::steady_clock::now();
   const auto time_into = [&lap](double& part) {

@@ -36,8 +36,9 @@ void World::integrate() {
   double travel_sq = state_.rebuild.max_travel_sq, near_travel_sq = broad_phase_.near_travel_sq();
   std::int64_t bad = std::numeric_limits<std::int64_t>::max();
 
-  // Each thread a contiguous range of whole groups of eight (the kernel's SIMD width): a
-  // particle's update depends on nothing else, so any split gives the same bits.
+  // Each thread a contiguous range of whole groups of eight (the kernel's SIMD width), sized by
+  // the threads' speeds in the pair loop: a particle's update depends on nothing else, so any
+  // split gives the same bits.
   const int threads = threads_for(n, threads_);
 #pragma omp parallel num_threads(threads) reduction(max : travel_sq, near_travel_sq) reduction(min : bad)
   {
@@ -47,7 +48,9 @@ void World::integrate() {
     const std::int64_t team = 1, me = 0;
 #endif
     const std::int64_t groups = (n + 7) / 8;
-    const std::int64_t begin = first + std::min(n, 8 * (groups * me / team)), end = first + std::min(n, 8 * (groups * (me + 1) / team));
+    const std::vector<double>* fraction = team > 1 ? &thread_fractions_ : nullptr;  // by speed (plan_shares)
+    const std::int64_t begin = first + std::min(n, 8 * share_begin(groups, fraction, team, me));
+    const std::int64_t end = first + std::min(n, 8 * share_begin(groups, fraction, team, me + 1));
     detail::LeapfrogTally tally{travel_sq, near_travel_sq, bad};
     detail::leapfrog(p, leapfrog_step, begin, end, tally);
     travel_sq = tally.travel_sq;

@@ -57,6 +57,9 @@ struct KernelContext {
   Vec3* scatter_force = nullptr;
   Vec3* scatter_torque = nullptr;
   const std::uint8_t* shared = nullptr;  // null: one thread, nothing shared
+  /// Each thread's fraction of a loop's work, in proportion to the speed it showed in the pair
+  /// loop (cores of one machine can differ by a third); null, or not one per thread: equal.
+  const std::vector<double>* thread_fractions = nullptr;
   /// A World spread over processes (World::spread_over) computes the wall contacts of its own
   /// balls only, storage indices [owned_begin, owned_end); the others keep their records.
   std::int64_t owned_begin = 0;

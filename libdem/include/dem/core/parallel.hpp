@@ -1,6 +1,7 @@
 // Small parallel helpers every floor may use (the ground floor of the house: no engine types).
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -47,6 +48,51 @@ inline std::vector<double> speed_fractions(const std::vector<std::int64_t>& work
     if (!changed) break;
   }
   return fraction;
+}
+
+/// Where thread t's share of `count` items begins, thread s taking the fraction (*fraction)[s] of
+/// them: in proportion to the threads' speeds (speed_fractions), or equal shares when `fraction` is
+/// null or not one per thread of the `team`. Thread t's share ends where t + 1's begins; t = team
+/// gives `count`.
+inline std::int64_t share_begin(std::int64_t count, const std::vector<double>* fraction, std::int64_t team,
+                                std::int64_t t) {
+  if (t >= team) return count;
+  if (!fraction || static_cast<std::int64_t>(fraction->size()) != team) return count * t / team;
+  double before = 0.0;
+  for (std::int64_t s = 0; s < t; ++s) before += (*fraction)[static_cast<std::size_t>(s)];
+  return std::min(count, static_cast<std::int64_t>(before * static_cast<double>(count)));
+}
+
+/// Borders of contiguous shares of the items [0, count), one share per entry of `fraction`: share t
+/// is [border[t], border[t + 1]) and ends at the first item where the work so far reaches the
+/// fractions' sum up to t of the whole (`work(k)`: item k's units). `share_work`, if given, gets
+/// each share's units. A share may be empty; the last one ends at `count`.
+template <class Work>
+std::vector<std::int64_t> split_work(std::int64_t count, const std::vector<double>& fraction, const Work& work,
+                                     std::vector<std::int64_t>* share_work = nullptr) {
+  const auto shares = static_cast<std::int64_t>(fraction.size());
+  std::int64_t total = 0;
+  for (std::int64_t k = 0; k < count; ++k) total += work(k);
+  std::vector<std::int64_t> border(1, 0), done_at(1, 0);  // done_at: work before each border
+  std::int64_t done = 0;
+  double goal = shares > 0 ? fraction[0] * static_cast<double>(total) : 0.0;
+  for (std::int64_t k = 0; k < count && static_cast<std::int64_t>(border.size()) < shares; ++k) {
+    done += work(k);
+    if (static_cast<double>(done) >= goal) {
+      border.push_back(k + 1);
+      done_at.push_back(done);
+      goal += fraction[border.size() - 1] * static_cast<double>(total);
+    }
+  }
+  while (static_cast<std::int64_t>(border.size()) <= shares) {
+    border.push_back(count);
+    done_at.push_back(total);
+  }
+  if (share_work) {
+    share_work->resize(static_cast<std::size_t>(shares));
+    for (std::size_t t = 0; t < share_work->size(); ++t) (*share_work)[t] = done_at[t + 1] - done_at[t];
+  }
+  return border;
 }
 
 }  // namespace dem

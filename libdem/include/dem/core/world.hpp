@@ -265,6 +265,9 @@ class World {
   std::vector<std::uint8_t> shared_;
   bool share_plan_stale_ = true;
   std::int64_t shares_planned_at_ = 0;  // step of the plan
+  // Each thread's fraction of a loop's work, from the speeds its ball-ball share showed (thread t
+  // stays on one core when bound): the wall loop and the integration split by it too. Empty: equal.
+  std::vector<double> thread_fractions_;
 };
 
 }  // namespace dem
