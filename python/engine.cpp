@@ -114,6 +114,10 @@ void bind_engine(py::module_& m) {
       .value("BALL_BALL", ContactKind::BallBall)
       .value("BALL_FACET", ContactKind::BallFacet)
       .value("BALL_PEBBLE", ContactKind::BallPebble);
+  py::enum_<World::ContactRecords>(m, "ContactRecords",
+                                   "Which steps record the pair contacts' forces (World::ContactRecords)")
+      .value("WHEN_READ", World::ContactRecords::WhenRead)
+      .value("EVERY_STEP", World::ContactRecords::EveryStep);
   m.attr("DOF_X") = int(dof_x), m.attr("DOF_Y") = int(dof_y), m.attr("DOF_Z") = int(dof_z);
   m.attr("DOF_TRANSLATION") = int(dof_translation), m.attr("DOF_ROTATION") = int(dof_rotation), m.attr("DOF_ALL") = int(dof_all);
 
@@ -315,6 +319,9 @@ void bind_engine(py::module_& m) {
              const PythonCall call(std::move(f));
              w.add_controller([call](World& world) { call(world); });
            }, py::arg("controller"), "controller(world) runs every step after the forces, before integration")
+      .def_property("contact_records", &World::contact_records, &World::set_contact_records,
+                    "WHEN_READ (the last step of each step() call and before callbacks) or EVERY_STEP (for a "
+                    "controller that reads contacts)")
       .def("add_callback", [](World& w, std::int64_t every, py::function f) {
              const PythonCall call(std::move(f));
              w.add_callback(every, [call](World& world) { call(world); });

@@ -48,6 +48,7 @@ struct ContactImpulse {
 };
 
 void record_impulse(World& world, ContactImpulse& impulse) {
+  world.set_contact_records(World::ContactRecords::EveryStep);  // read by a controller, every step
   world.add_controller([&impulse](World& w) {
     const Vec3 centre = w.clumps().front().x;
     w.for_each_contact([&](const ContactView& c) {

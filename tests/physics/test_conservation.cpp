@@ -21,35 +21,14 @@ double elastic_energy(const World& world, double kn_ball, double kn_wall) {
   return energy;
 }
 
-void add_box(World& world, double size) {
-  const double h = size / 2;
-  using geometry::make_rectangle;
-  const Vec3 c(h, h, h);
-  for (int axis = 0; axis < 3; ++axis)
-    for (int side : {-1, 1}) {
-      Vec3 n = Vec3::Zero();
-      n[axis] = side;
-      Vec3 u = Vec3::Zero(), v = Vec3::Zero();
-      u[(axis + 1) % 3] = h;
-      v[(axis + 2) % 3] = h;
-      world.add_wall(make_facet_wall("box", make_rectangle(c + n * h, u, v), n));
-    }
-}
-
 }  // namespace
 
 TEST_CASE("energy: a frictionless undamped granular gas keeps its total energy", "[physics][conservation]") {
   const double box = 8e-3;
   World world(dynamic_settings(0.0));
-  std::mt19937_64 rng(7);
-  std::normal_distribution<double> speed(0.0, 0.6);
   // A gas, not a packing: balls apart from each other and from the walls.
-  for (auto b : separated_balls(150, 0.8 * box, 0.3e-3, 0.5e-3, 11)) {
-    b.position += Vec3::Constant(0.1 * box);
-    b.velocity = Vec3(speed(rng), speed(rng), speed(rng));
-    world.add_ball(b);
-  }
-  add_box(world, box);
+  add_gas(world, 150, box, 0.1, 0.3e-3, 0.5e-3, 0.6, 11, 7);
+  add_facet_box(world, box);
   const auto law = make_contact_model<LinearLaw>(LinearParams::constant(2e4, 2e4, 0.0), "contact");
   world.set_contact_model(ContactKind::BallBall, law);
   world.set_contact_model(ContactKind::BallFacet, law);

@@ -184,3 +184,20 @@ def test_servo_plate_on_a_ball_and_a_ring_stack():
     rings = world.add_ring_stack(spec)
     assert len(rings) == 4  # 4 mm covered by rings 1 mm tall
     assert np.count_nonzero(world.clump_of >= 0) > 0
+
+
+def test_a_controller_reads_contacts_only_with_every_step_records():
+    # The head-on impact: the 1 um gap closes at 0.1 m/s in 50 steps of 0.2 us, and the contact
+    # lasts pi sqrt(m_eff / kn) = 74 us, 370 steps: steps 100-120 are all in contact.
+    world = two_balls(1e4)
+    world.time_step = 2e-7
+    world.step(100)
+    counts = []
+    world.add_controller(lambda w: counts.append(w.contact_count(libdem.ContactKind.BALL_BALL)))
+    assert world.contact_records == libdem.ContactRecords.WHEN_READ
+    with pytest.raises(RuntimeError, match="EveryStep"):
+        world.step(10)  # its first step skips the records
+    world.contact_records = libdem.ContactRecords.EVERY_STEP
+    counts.clear()
+    world.step(10)
+    assert counts == [1] * 10

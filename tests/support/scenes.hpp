@@ -39,6 +39,17 @@ inline Wall floor_wall(double z, double half_size) {
                          -Vec3::UnitZ());
 }
 
+/// A closed cube [0, size]^3 of six facet walls (normals outward, pushed out by the balls inside).
+inline void add_facet_box(World& world, double size) {
+  const double h = size / 2;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side : {-1, 1}) {
+      Vec3 n = Vec3::Zero(), u = Vec3::Zero(), v = Vec3::Zero();
+      n[axis] = side, u[(axis + 1) % 3] = h, v[(axis + 2) % 3] = h;
+      world.add_wall(make_facet_wall("box", geometry::make_rectangle(Vec3::Constant(h) + n * h, u, v), n));
+    }
+}
+
 /// A simple cubic lattice of per_side^3 balls 0.62 mm apart with radii 0.30-0.33 mm (so that
 /// neighbours overlap: a compressed packing that springs apart) and random spins up to 50 rad/s.
 inline std::vector<BallSpec> spinning_lattice(int per_side, unsigned seed) {
@@ -76,6 +87,20 @@ inline std::vector<BallSpec> separated_balls(std::size_t n, double box, double r
     if (clear) placed.push_back(b);
   }
   return placed;
+}
+
+/// A granular gas in the cube [0, box]^3: up to n balls apart from each other and at least
+/// `margin` * box from its faces, each velocity component normal with standard deviation
+/// `speed` (m/s). Seeds: the positions' and the velocities'.
+inline void add_gas(World& world, std::size_t n, double box, double margin, double r_min, double r_max, double speed,
+                    unsigned position_seed, unsigned speed_seed) {
+  std::mt19937_64 rng(speed_seed);
+  std::normal_distribution<double> component(0.0, speed);
+  for (BallSpec b : separated_balls(n, (1.0 - 2.0 * margin) * box, r_min, r_max, position_seed)) {
+    b.position += Vec3::Constant(margin * box);
+    b.velocity = Vec3(component(rng), component(rng), component(rng));
+    world.add_ball(b);
+  }
 }
 
 }  // namespace dem::testing

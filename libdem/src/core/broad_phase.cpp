@@ -27,10 +27,11 @@ Key pair_key(ParticleId a, ParticleId b) {
 /// (a binary search over all contacts' keys missed the cache at every level; a third of a rebuild).
 class TouchingPairs {
  public:
-  /// Notes the touching contacts of `c` by their particles' stable ids (before a re-sort).
+  /// Notes the touching contacts of `c` by their particles' stable ids (before a re-sort). By
+  /// `touching`, which every step writes, not by the force records, which only some steps do.
   TouchingPairs(const PairContacts& c, const ParticleStore& p) {
-    for (std::size_t k = 0; k < c.normal_force.size() && k < c.size(); ++k)
-      if (c.normal_force[k] > 0.0) {
+    for (std::size_t k = 0; k < c.touching.size() && k < c.size(); ++k)
+      if (c.touching[k] != 0) {
         id_first_.push_back(p.id[static_cast<std::size_t>(c.first[k])]);
         id_second_.push_back(p.id[static_cast<std::size_t>(c.second[k])]);
         contact_.push_back(static_cast<std::int64_t>(k));
@@ -76,6 +77,12 @@ class TouchingPairs {
   std::vector<std::int32_t> offsets_, upper_;  // per lower index: the upper indices
   std::vector<std::int64_t> contact_by_lower_;  // and the old contact indices
 };
+
+/// `touching` of a new pair list: the contacts carried over are those that touched (TouchingPairs).
+void mark_carried(PairContacts& fresh, const std::vector<std::int64_t>& source_of) {
+  fresh.touching.assign(source_of.size(), 0);
+  for (std::size_t k = 0; k < source_of.size(); ++k) fresh.touching[k] = source_of[k] >= 0 ? 1 : 0;
+}
 
 /// The old index of `key` among the sorted (key, old index) pairs of the ball-facet contacts, or -1.
 std::int64_t lookup(const std::vector<std::pair<Key, std::int64_t>>& keys, Key key) {
@@ -226,8 +233,8 @@ void BroadPhase::rebuild(WorldState& state, const ContactModelTable& models, int
   const auto model = [&models](ContactKind kind) { return models[static_cast<std::size_t>(kind)].get(); };
   carry_history(model(ContactKind::BallBall), bb, ball_ball, bb_source);
   carry_history(model(ContactKind::BallPebble), bp, ball_pebble, bp_source);
-  mark_touching(bb);
-  mark_touching(bp);
+  mark_carried(bb, bb_source);
+  mark_carried(bp, bp_source);
   // The incidence lists are remade below: into the old ones' memory, not freshly touched pages.
   bb.incidence_offsets = std::move(ball_ball.incidence_offsets), bb.incidence_entries = std::move(ball_ball.incidence_entries);
   bp.incidence_offsets = std::move(ball_pebble.incidence_offsets), bp.incidence_entries = std::move(ball_pebble.incidence_entries);

@@ -142,7 +142,12 @@ void World::step(std::int64_t n, StepEnd end) {
     if (state_.clock.dt <= 0.0) update_time_step();
     timing_.rebuilds += seconds_since(t0);
     copies_go_stale();
-    compute_forces();  // times its own parts
+    // A callback after this step, or the caller after the last one, sees the whole state on every
+    // process and may read the contacts' records.
+    bool due = false;
+    for (const auto& [every, callback] : callbacks_) due = due || (state_.clock.steps + 1) % every == 0;
+    const bool readable = due || s + 1 == n;
+    compute_forces(readable || contact_records_ == ContactRecords::EveryStep);  // times its own parts
     const auto t1 = std::chrono::steady_clock::now();
     for (auto& controller : controllers_) controller(*this);
     const auto t2 = std::chrono::steady_clock::now();
@@ -153,9 +158,6 @@ void World::step(std::int64_t n, StepEnd end) {
     share_ghosts();  // spread over processes: the partners of the next step's contacts
     state_.clock.time += state_.clock.dt;
     ++state_.clock.steps;
-    // Callbacks (and the caller, after the last step) see the whole state on every process.
-    bool due = false;
-    for (const auto& [every, callback] : callbacks_) due = due || state_.clock.steps % every == 0;
     if (due || (s + 1 == n && end == StepEnd::Whole)) synchronise();
     timing_.communication += seconds_since(t3);
     for (auto& [every, callback] : callbacks_)
@@ -190,6 +192,7 @@ void World::rebuild(bool resort) {
 
 void World::restore(WorldState state) {
   state_ = std::move(state);
+  pair_records_current_ = true;  // a restart file holds the records of its last step
   share_plan_stale_ = true;  // the restored contact lists are not those the plan was made for
   forget_domains();
   broad_phase_.invalidate_near();

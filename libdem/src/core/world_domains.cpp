@@ -156,7 +156,7 @@ void World::plan_domains() {
   std::vector<std::int64_t> work(n, 2);
   contacts.for_each_pair_set([&](const PairContacts& c) {
     for (std::size_t k = 0; k < c.size(); ++k) {
-      const std::int64_t cost = k < c.normal_force.size() && c.normal_force[k] > 0.0 ? 4 : 1;
+      const std::int64_t cost = k < c.touching.size() && c.touching[k] != 0 ? 4 : 1;
       work[static_cast<std::size_t>(c.first[k])] += cost;
       work[static_cast<std::size_t>(c.second[k])] += cost;
     }
@@ -426,6 +426,7 @@ void World::synchronise_history() {
 
 const WorldState& World::state() const {
   require_whole("state()");
+  require_pair_records("state()");  // a restart file's touching contacts are those with records
   // The history is a restart file's alone (and a rebuild's): gathered when asked for.
   if (spread() && !domains_->history) const_cast<World*>(this)->synchronise_history();
   return state_;

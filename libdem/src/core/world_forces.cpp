@@ -42,7 +42,7 @@ void World::plan_shares() {
     for (const std::int32_t k : c.near) near[static_cast<std::size_t>(k)] = 1;
     auto work = [&c, &near](std::int64_t k) -> std::int64_t {
       const auto s = static_cast<std::size_t>(k);
-      return near[s] == 0 ? 0 : c.normal_force[s] > 0.0 ? 4 : 1;
+      return near[s] == 0 ? 0 : s < c.touching.size() && c.touching[s] != 0 ? 4 : 1;
     };
     // Each thread's share of the work: equal, or in proportion to the speed each thread showed in
     // its share since the last plan. A VM's cores can differ by a third in speed (and a laptop's
@@ -68,8 +68,9 @@ void World::plan_shares() {
   shares_planned_at_ = state_.clock.steps;
 }
 
-void World::compute_forces() {
+void World::compute_forces(bool record_pair_forces) {
   KernelContext ctx;
+  ctx.record_pair_forces = record_pair_forces;
   ctx.particles = &state_.particles;
   ctx.walls = &state_.walls;
   ctx.dt = state_.clock.dt;
@@ -136,6 +137,7 @@ void World::compute_forces() {
       w.stiffness_sum += wc.normal_stiffness[k];
     }
   });
+  pair_records_current_ = record_pair_forces;
   check_stability(global_worst(worst));
   time_into(timing_.force_sums);
 }

@@ -2,6 +2,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 #include <type_traits>
 
 #include <dem/core/errors.hpp>
@@ -47,13 +49,24 @@ void visit_touching(const WallContacts& c, const ParticleStore& p, const Contact
 
 }  // namespace
 
+void World::require_pair_records(const char* what) const {
+  if (pair_records_current_) return;
+  throw std::logic_error(std::string("World::") + what +
+                         " read the contacts' forces on a step that did not record them: with "
+                         "ContactRecords::WhenRead (the default) they are recorded on the last step of each step() "
+                         "call and on the steps a callback follows; a controller that reads contacts during a step "
+                         "needs World::set_contact_records(ContactRecords::EveryStep)");
+}
+
 void World::for_each_contact(const ContactVisitor& visit) const {
   require_whole("for_each_contact()");
+  require_pair_records("for_each_contact()");
   state_.contacts.for_each_set([&](const auto& set) { visit_touching(set, state_.particles, visit); });
 }
 
 std::size_t World::contact_count(ContactKind kind) const {
   require_whole("contact_count()");
+  if (kind != ContactKind::BallFacet) require_pair_records("contact_count()");
   std::size_t count = 0;
   state_.contacts.for_each_set([&](const auto& set) {
     if (WorldContacts::law_kind(set) != kind) return;
@@ -122,20 +135,22 @@ double World::critical_time_step() const {
     return k;
   };
   // Each touching contact's stiffness on its pieces (a wall is rigid: only the ball). Not through
-  // for_each_contact: right after a rebuild the lists have their normal forces but no forces yet.
+  // for_each_contact: this runs at rebuilds, inside a step, where the pair lists' force records
+  // may be older (ContactRecords::WhenRead); `touching` is the last step's.
   state_.contacts.for_each_set([&](const auto& set) {
     const ContactKind kind = WorldContacts::law_kind(set);
     const ContactModel* model = contact_model(kind);
     if (model == nullptr) return;
-    for (std::size_t k = 0; k < set.size() && k < set.normal_force.size(); ++k) {
-      if (set.normal_force[k] <= 0.0) continue;
+    for (std::size_t k = 0; k < set.size(); ++k) {
       if constexpr (std::is_same_v<std::decay_t<decltype(set)>, PairContacts>) {
+        if (k >= set.touching.size() || set.touching[k] == 0) continue;
         const auto i = static_cast<std::size_t>(set.first[k]);
         const auto j = static_cast<std::size_t>(set.second[k]);
         const ContactStiffness s = model->stiffness(kinematics(kind, p.radius[i], p.radius[j]));
         add(i, s, p.radius[i]);
         add(j, s, p.radius[j]);
       } else {
+        if (k >= set.normal_force.size() || set.normal_force[k] <= 0.0) continue;
         const auto i = static_cast<std::size_t>(set.ball[k]);
         add(i, model->stiffness(kinematics(kind, p.radius[i], 0.0)), p.radius[i]);
       }

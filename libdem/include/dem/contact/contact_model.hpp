@@ -60,6 +60,10 @@ struct KernelContext {
   /// Each thread's fraction of a loop's work, in proportion to the speed it showed in the pair
   /// loop (cores of one machine can differ by a third); null, or not one per thread: equal.
   const std::vector<double>* thread_fractions = nullptr;
+  /// Whether the pair loops write each contact's force and normal force (PairContacts::force,
+  /// normal_force) this step: only on steps after which they can be read (World::ContactRecords).
+  /// The sums into the particles, the history and `touching` are written on every step.
+  bool record_pair_forces = true;
   /// A World spread over processes (World::spread_over) computes the wall contacts of its own
   /// balls only, storage indices [owned_begin, owned_end); the others keep their records.
   std::int64_t owned_begin = 0;

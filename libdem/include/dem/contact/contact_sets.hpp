@@ -1,6 +1,6 @@
 // Storage of the contacts of one contact type: the candidate pairs found by the broad phase
 // (a Verlet list: pairs closer than the sum of radii plus the skin), the contact law's history
-// for each of them, and the forces of the last step.
+// for each of them, and the forces of the last step that recorded them (World::ContactRecords).
 //
 // The history is a byte buffer with one law State per candidate, created and copied only through
 // the law-typed ContactModel (contact_model.hpp). A candidate that is not touching holds a fresh
@@ -46,10 +46,13 @@ struct PairContacts {
   ContactKind kind = ContactKind::BallBall;
   std::vector<std::int32_t> first, second;  // storage indices of the two pieces
   StateBuffer state;
+  /// The forces of the last step that recorded them (KernelContext::record_pair_forces; a World
+  /// records on the steps after which they can be read, World::ContactRecords).
   std::vector<Vec3> force;           // N, on piece 2 (piece 1 gets -force)
   std::vector<double> normal_force;  // N, elastic, compression positive; 0 if not touching
-  /// 1 where normal_force or force is non-zero: a contact the loops must end (mark_touching)
-  /// when it separates. One byte, so that finding those costs the loops little memory traffic.
+  /// 1 where the contact touched in the last step (non-zero normal force or force), written every
+  /// step: a contact the loops must end when it separates, and whose history a rebuild keeps. One
+  /// byte, so that finding those costs the loops little memory traffic.
   std::vector<std::uint8_t> touching;
   /// The candidates that can touch before the World next refreshes this list, ascending: the
   /// others are more than a near skin apart (WorldSettings::near_skin), so the loops skip them.
@@ -73,7 +76,8 @@ struct PairContacts {
   std::size_t size() const { return first.size(); }
 };
 
-/// Sets `touching` from the normal forces and forces (after a rebuild or a load).
+/// Sets `touching` from the normal forces and forces (after a load: a restart file holds the
+/// records of its last step).
 inline void mark_touching(PairContacts& c) {
   c.touching.assign(c.size(), 0);
   for (std::size_t k = 0; k < c.size(); ++k)

@@ -102,6 +102,19 @@ class World {
   bool run_until(const std::function<bool(const World&)>& done, std::int64_t check_every, std::int64_t max_steps);
   /// Called every step after the contact forces, before integration (servo walls, protocols).
   void add_controller(std::function<void(World&)> controller);
+  /// Which steps record each ball-ball and ball-pebble contact's force and normal force, the
+  /// records that for_each_contact, contact_count, unbalanced_force_ratio and state() (restart
+  /// files) read. Wall contacts, the particles' sums and the history are written every step, and
+  /// the results are the same bits either way.
+  enum class ContactRecords {
+    WhenRead,  ///< the last step of each step() call and the steps a callback follows: the records
+               ///< are current wherever the caller or a callback reads them, and the other steps
+               ///< skip a third of what a contact writes to memory (the default)
+    EveryStep  ///< every step, for a controller that reads contacts during a step (reading them
+               ///< there in WhenRead mode throws std::logic_error, on the steps that skip them)
+  };
+  void set_contact_records(ContactRecords records) { contact_records_ = records; }
+  ContactRecords contact_records() const { return contact_records_; }
   /// Called after every `every` steps.
   void add_callback(std::int64_t every, std::function<void(World&)> callback);
 
@@ -206,7 +219,8 @@ class World {
 
  private:
   void rebuild(bool resort);
-  void compute_forces();
+  /// The contact forces of this step; `record_pair_forces`: the pair contacts' records too.
+  void compute_forces(bool record_pair_forces);
   void plan_shares();
   void integrate();
   void update_pebbles();
@@ -226,6 +240,9 @@ class World {
   /// std::logic_error naming `what` when a spread World is read between a step that ended with
   /// StepEnd::WallsAndClumps (or, during a step, from a controller) and the next gather.
   void require_whole(const char* what) const;
+  /// Throws std::logic_error naming `what` if the last step did not record the pair contacts'
+  /// forces (ContactRecords::WhenRead, read from a controller).
+  void require_pair_records(const char* what) const;
   bool spread() const { return domains_ != nullptr; }
   /// Subdomains, ghosts and slices from the lists now (after a rebuild or a load).
   void plan_domains();
@@ -268,6 +285,8 @@ class World {
   // Each thread's fraction of a loop's work, from the speeds its ball-ball share showed (thread t
   // stays on one core when bound): the wall loop and the integration split by it too. Empty: equal.
   std::vector<double> thread_fractions_;
+  ContactRecords contact_records_ = ContactRecords::WhenRead;
+  bool pair_records_current_ = true;  // the last step recorded the pair contacts' forces
 };
 
 }  // namespace dem
