@@ -109,7 +109,8 @@ class World {
   enum class ContactRecords {
     WhenRead,  ///< the last step of each step() call and the steps a callback follows: the records
                ///< are current wherever the caller or a callback reads them, and the other steps
-               ///< skip a third of what a contact writes to memory (the default)
+               ///< skip 32 of the bytes a touching contact writes (81 with the rolling-resistance
+               ///< law's 48-byte history; the default)
     EveryStep  ///< every step, for a controller that reads contacts during a step (reading them
                ///< there in WhenRead mode throws std::logic_error, on the steps that skip them)
   };
