@@ -366,9 +366,6 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
       if (separated & (touching[k] != 0)) end_contact<State>(c, k);
       // The block reads this contact's history and writes its results after the whole stretch
       // is found: ask for those lines now, so that they arrive meanwhile.
-      // EXPERIMENT: partner data ahead
-      __builtin_prefetch(b.velocity + 3 * j);
-      __builtin_prefetch(b.angular_velocity + 3 * j);
       const std::byte* history = c.state.at(static_cast<std::size_t>(k));
       DEM_PREFETCH_FOR_WRITE(history);
       DEM_PREFETCH_FOR_WRITE(history + sizeof(State) - 1);
