@@ -1,10 +1,11 @@
-// The threads' shares of a loop: what speed_fractions gives for measured speeds, and where
-// share_begin and split_work put the borders. The expected values are ratios of small integers,
+// The threads' shares of a loop: what speed_fractions gives for measured speeds, where
+// share_begin and split_work put the borders, and how ChunkQueue hands out a share's chunks. The expected values are ratios of small integers,
 // so the tolerance only absorbs a few double roundings.
 #include <dem/core/parallel.hpp>
 
 #include <catch2/catch.hpp>
 #include <cstdint>
+#include <thread>
 #include <vector>
 
 using dem::speed_fractions;
@@ -83,5 +84,41 @@ TEST_CASE("split_work: contiguous shares of equal work, and of measured fraction
   SECTION("more shares than work: the last ones are empty and end at the count") {
     const auto border = split_work(2, {0.25, 0.25, 0.25, 0.25}, [](std::int64_t) { return std::int64_t{1}; });
     CHECK(border == std::vector<std::int64_t>{0, 1, 2, 2, 2});
+  }
+}
+
+TEST_CASE("ChunkQueue: the owner takes from the front, others from the back, each chunk once", "[parallel]") {
+  SECTION("alone, in order") {
+    dem::ChunkQueue q;
+    q.reset(5);
+    CHECK(q.left() == 5);
+    CHECK(q.take_front() == 0);
+    CHECK(q.take_back() == 4);
+    CHECK(q.take_front() == 1);
+    CHECK(q.take_back() == 3);
+    CHECK(q.left() == 1);
+    CHECK(q.take_back() == 2);
+    CHECK(q.left() == 0);
+    CHECK(q.take_front() == -1);
+    CHECK(q.take_back() == -1);
+    q.reset(0);
+    CHECK(q.take_front() == -1);
+  }
+  SECTION("two threads racing from both ends: every chunk taken exactly once") {
+    constexpr std::int64_t chunks = 200000;
+    dem::ChunkQueue q;
+    q.reset(chunks);
+    std::vector<std::int64_t> front, back;
+    std::thread owner([&] {
+      for (std::int64_t c; (c = q.take_front()) >= 0;) front.push_back(c);
+    });
+    for (std::int64_t c; (c = q.take_back()) >= 0;) back.push_back(c);
+    owner.join();
+    REQUIRE(static_cast<std::int64_t>(front.size() + back.size()) == chunks);
+    // The owner's chunks are 0, 1, 2, ... and the other's count down from the end: they meet once.
+    std::int64_t out_of_place = 0;
+    for (std::size_t k = 0; k < front.size(); ++k) out_of_place += front[k] != static_cast<std::int64_t>(k);
+    for (std::size_t k = 0; k < back.size(); ++k) out_of_place += back[k] != chunks - 1 - static_cast<std::int64_t>(k);
+    CHECK(out_of_place == 0);
   }
 }

@@ -2,9 +2,10 @@
 // force and torque into its particles' sums in contact order. With several threads, each takes a
 // contiguous share of the contacts, sized by the speed it showed; a particle with contacts in two
 // shares gets the first share's parts directly and the later shares' parts afterwards, in share
-// order (contact_loops.hpp). So every particle's sum is the serial one, bit for bit, for any
-// thread count and any split, and only the few particles on the shares' borders cost a deferred
-// add.
+// order, and a thread done early takes chunks from the end of another's share with all their parts
+// deferred (contact_loops.hpp). So every particle's sum is the serial one, bit for bit, for any
+// thread count, any split and whoever computes a chunk, and only the particles on the shares'
+// borders and in the taken chunks cost a deferred add.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -48,13 +49,14 @@ void World::plan_shares() {
     // its share since the last plan. A VM's cores can differ by a third in speed (and a laptop's
     // performance and efficiency cores by more): an equal split waits for the slowest.
     const std::vector<double> fraction =
-        c.share_work.size() == static_cast<std::size_t>(threads)
-            ? speed_fractions(c.share_work, c.share_seconds)
+        c.share_done.size() == static_cast<std::size_t>(threads)
+            ? speed_fractions(c.share_done, c.share_seconds)
             : std::vector<double>(static_cast<std::size_t>(threads), 1.0 / threads);
     if (c.kind == ContactKind::BallBall) thread_fractions_ = fraction;
-    c.shares = split_work(count, fraction, work, &c.share_work);
+    c.shares = split_work(count, fraction, work);
     const std::vector<std::int64_t>& shares = c.shares;
     c.share_seconds.assign(static_cast<std::size_t>(threads), 0.0);
+    c.share_done.assign(static_cast<std::size_t>(threads), 0);
     owner.assign(n, -1);
     for (int t = 0; t < threads; ++t)
       for (std::int64_t k = shares[static_cast<std::size_t>(t)]; k < shares[static_cast<std::size_t>(t) + 1]; ++k)

@@ -60,15 +60,17 @@ struct PairContacts {
   std::vector<std::int32_t> near;
   /// With several threads, thread t takes the contacts [shares[t], shares[t + 1]) (planned by
   /// the World, weighted by which contacts touch and by how fast each thread went, so that the
-  /// threads finish together).
+  /// threads finish together). A thread that finishes first takes chunks of steal_chunk near
+  /// candidates from the end of another's share (contact_loops.hpp).
   std::vector<std::int64_t> shares;
-  /// Per share: its work units when planned, and the seconds its thread has spent in it since
-  /// (the next plan gives a thread on a faster core a larger share).
-  std::vector<std::int64_t> share_work;
+  /// Per thread: the near candidates it computed since the plan, and the seconds it took (the
+  /// next plan gives a thread on a faster core a larger share).
+  std::vector<std::int64_t> share_done;
   std::vector<double> share_seconds;
   /// Scratch of a threaded step: share t's parts of the particles shared with earlier shares
-  /// (KernelContext::shared), added after the loop in share order.
-  std::vector<std::vector<DeferredSum>> deferred;
+  /// (KernelContext::shared), and every part of each chunk another thread took (one list per
+  /// chunk, in contact order), added after the loop in contact order.
+  std::vector<std::vector<DeferredSum>> deferred, taken;
   /// Per-particle incidence (CSR): particle i's contacts are the entries
   /// [incidence_offsets[i], incidence_offsets[i + 1]) of incidence_entries, each contact * 2 + side
   /// (side 1: i is piece 2), in contact order. Made with the list; restart files hold it.

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <utility>
 #if defined(_OPENMP)
 #include <omp.h>
@@ -20,6 +21,7 @@
 #include <dem/contact/contact_model.hpp>
 #include <dem/contact/lanes.hpp>
 #include <dem/core/block_isa.hpp>
+#include <dem/core/parallel.hpp>
 #include <dem/core/particles.hpp>
 #include <dem/geometry/triangle.hpp>
 
@@ -68,15 +70,21 @@ void end_contact(PairContacts& c, std::int64_t k) {
 DEM_HOT_INLINE void add_into(Vec3& sum, const Lane3& v) { sum.x() += v.x, sum.y() += v.y, sum.z() += v.z; }
 DEM_HOT_INLINE void subtract_from(Vec3& sum, const Lane3& v) { sum.x() -= v.x, sum.y() -= v.y, sum.z() -= v.z; }
 
+/// Which of a contact's parts a loop adds into the particles' sums itself, and which it leaves in
+/// a list for the engine to add once the contacts before it have added theirs: the first share
+/// adds all; a later share defers the particles shared with other shares (KernelContext::shared);
+/// a chunk taken from another thread's share defers all, since that share's own thread may still
+/// be adding into the same particles.
+enum class Sums { direct, defer_shared, defer_all };
+
 /// Adds contact k (force `f` on piece 2, torques on both pieces) into its particles' sums, in the
-/// caller's contact order. `Deferred`: a shared particle's part goes to `later` instead, for the
-/// engine to add once the earlier shares have added theirs.
-template <bool Deferred>
+/// caller's contact order, or leaves a part in `later` (Sums).
+template <Sums Mode>
 DEM_HOT_INLINE void add_to_particles(const KernelContext& ctx, std::vector<DeferredSum>* later, std::size_t i,
                                      std::size_t j, const Lane3& f, const Lane3& torque_first,
                                      const Lane3& torque_second) {
-  const bool defer_first = Deferred && ctx.shared[i] != 0;
-  const bool defer_second = Deferred && ctx.shared[j] != 0;
+  const bool defer_first = Mode == Sums::defer_all || (Mode == Sums::defer_shared && ctx.shared[i] != 0);
+  const bool defer_second = Mode == Sums::defer_all || (Mode == Sums::defer_shared && ctx.shared[j] != 0);
   if (defer_first) later->push_back({static_cast<std::int32_t>(i), true, f, torque_first});
   else {
     subtract_from(ctx.scatter_force[i], f);
@@ -100,9 +108,9 @@ inline void add_deferred(const KernelContext& ctx, const std::vector<DeferredSum
   }
 }
 
-/// The pair loop over the near candidates c.near[begin, end): one thread's share. `Deferred`: the
-/// shared particles' parts go to `later` (KernelContext::shared); otherwise every sum is added.
-template <ContactLaw Law, bool Deferred>
+/// The pair loop over the near candidates c.near[begin, end): a chunk of one thread's share, its
+/// sums added or left in `later` as `Mode` says.
+template <ContactLaw Law, Sums Mode>
 void pair_range(const typename Law::Params& params, PairContacts& c, const KernelContext& ctx, std::int64_t begin,
                 std::int64_t end, std::vector<DeferredSum>* later, OverlapMonitor& local) {
   using State = typename Law::State;
@@ -142,7 +150,7 @@ void pair_range(const typename Law::Params& params, PairContacts& c, const Kerne
     }
     c.touching[static_cast<std::size_t>(k)] = (out.normal_force != 0.0) | !out.force.isZero(0.0);
     const Vec3 torque_first = -arm_first.cross(out.force) - out.moment;
-    add_to_particles<Deferred>(ctx, later, i, j, lane(out.force), lane(torque_first),
+    add_to_particles<Mode>(ctx, later, i, j, lane(out.force), lane(torque_first),
                                lane(second_torque(d, out.force, torque_first)));
     const double ratio = kin.overlap / std::min(p.radius[i], p.radius[j]);
     if (ratio > local.ratio) local = OverlapMonitor{ratio, k};
@@ -327,7 +335,7 @@ BlockKernel<Law, Block> block_kernel(const typename Law::Params& params, BlockIs
 
 /// pair_range for a lane law: the same near candidates, block by block. Sums into particles happen
 /// in contact order, as in pair_range, so both give the same bits.
-template <LaneContactLaw Law, bool Deferred>
+template <LaneContactLaw Law, Sums Mode>
 void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const KernelContext& ctx,
                       std::int64_t begin, std::int64_t end, std::vector<DeferredSum>* later, OverlapMonitor& local) {
   using State = typename Law::State;
@@ -391,7 +399,7 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
         normal_force[k_m] = b.normal_force[m];
       }
       touching[k_m] = b.touching[m] != 0.0;
-      add_to_particles<Deferred>(ctx, later, i, j, f, Lane3{b.t1x[m], b.t1y[m], b.t1z[m]},
+      add_to_particles<Mode>(ctx, later, i, j, f, Lane3{b.t1x[m], b.t1y[m], b.t1z[m]},
                                  Lane3{b.t2x[m], b.t2y[m], b.t2z[m]});
       // The overlap ratio's division here, in the scalar loop, leaves the block's divider to the law.
       const double ratio = b.overlap[m] / std::min(b.radius_1[m], b.radius_2[m]);
@@ -402,60 +410,109 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
 
 /// One mode's loop for one thread's share: blocks for a lane law where they pay (lanes_worthwhile),
 /// one contact at a time otherwise.
-template <ContactLaw Law, bool Deferred>
+template <ContactLaw Law, Sums Mode>
 void pair_share(const typename Law::Params& params, PairContacts& c, const KernelContext& ctx, std::int64_t begin,
                 std::int64_t end, std::vector<DeferredSum>* later, OverlapMonitor& local) {
   if constexpr (LaneContactLaw<Law>) {
-    if (lanes_worthwhile()) return pair_range_lanes<Law, Deferred>(params, c, ctx, begin, end, later, local);
+    if (lanes_worthwhile()) return pair_range_lanes<Law, Mode>(params, c, ctx, begin, end, later, local);
   }
-  pair_range<Law, Deferred>(params, c, ctx, begin, end, later, local);
+  pair_range<Law, Mode>(params, c, ctx, begin, end, later, local);
 }
+
+/// Near candidates per chunk that a thread takes from another's share: a few microseconds of work
+/// (small enough that the threads end within about that of each other, large enough that claiming
+/// costs nothing and a chunk's blocks are nearly full).
+inline constexpr std::int64_t steal_chunk = 512;
 
 template <ContactLaw Law>
 void compute_pairs(const typename Law::Params& params, PairContacts& c, const KernelContext& ctx,
                    OverlapMonitor& worst) {
-  const std::int64_t count = static_cast<std::int64_t>(c.size());
   const int threads = ctx.shared && c.shares.size() >= 2 ? static_cast<int>(c.shares.size()) - 1 : 1;
   c.force.resize(c.size(), Vec3::Zero());
   c.normal_force.resize(c.size(), 0.0);
   if (c.touching.size() != c.size()) mark_touching(c);
-  // The shared particles' parts from the shares after the first, one list per share.
-  c.deferred.resize(static_cast<std::size_t>(threads));
+  if (threads == 1) {
+    pair_share<Law, Sums::direct>(params, c, ctx, 0, static_cast<std::int64_t>(c.near.size()), nullptr, worst);
+    return;
+  }
+  // Share t is the near candidates [near_begin[t], near_begin[t + 1]), cut into chunks; its chunks
+  // are numbered from chunk_base[t] on.
+  const auto shares = static_cast<std::size_t>(threads);
+  std::vector<std::int64_t> near_begin(shares + 1), chunk_base(shares + 1, 0);
+  for (std::size_t t = 0; t <= shares; ++t) {
+    near_begin[t] = std::lower_bound(c.near.begin(), c.near.end(), c.shares[t]) - c.near.begin();
+    if (t > 0)
+      chunk_base[t] = chunk_base[t - 1] + (near_begin[t] - near_begin[t - 1] + steal_chunk - 1) / steal_chunk;
+  }
+  std::unique_ptr<ChunkQueue[]> queues(new ChunkQueue[shares]);
+  for (std::size_t t = 0; t < shares; ++t) queues[t].reset(chunk_base[t + 1] - chunk_base[t]);
+  c.deferred.resize(shares);
   for (std::vector<DeferredSum>& later : c.deferred) later.clear();
+  c.taken.resize(static_cast<std::size_t>(chunk_base[shares]));
+  for (std::vector<DeferredSum>& later : c.taken) later.clear();
+  if (c.share_seconds.size() != shares || c.share_done.size() != shares) {
+    c.share_seconds.assign(shares, 0.0);
+    c.share_done.assign(shares, 0);
+  }
 #pragma omp parallel num_threads(threads)
   {
     OverlapMonitor local;
-    // The shares the engine planned; should the runtime give fewer threads than asked, one thread
-    // takes every share and adds every sum itself.
-#if defined(_OPENMP)
-    const bool as_planned = omp_get_num_threads() == threads;
-    const int me = omp_get_thread_num();
-#else
-    const bool as_planned = threads == 1;
-    const int me = 0;
-#endif
-    std::int64_t begin = 0, end = me == 0 ? count : 0;
-    if (as_planned && threads > 1)
-      begin = c.shares[static_cast<std::size_t>(me)], end = c.shares[static_cast<std::size_t>(me) + 1];
-    // The share's contacts [begin, end) as positions in the near list.
-    begin = std::lower_bound(c.near.begin(), c.near.end(), begin) - c.near.begin();
-    end = std::lower_bound(c.near.begin(), c.near.end(), end) - c.near.begin();
-    // The first share comes first in contact order: it adds into the shared particles directly.
-    std::vector<DeferredSum>* later = &c.deferred[static_cast<std::size_t>(me)];
 #if defined(_OPENMP)
     const double started = omp_get_wtime();
+    const bool as_planned = omp_get_num_threads() == threads;
+    const auto me = static_cast<std::size_t>(omp_get_thread_num());
+#else
+    const bool as_planned = false;
+    const std::size_t me = 0;
 #endif
-    if (as_planned && me > 0) pair_share<Law, true>(params, c, ctx, begin, end, later, local);
-    else pair_share<Law, false>(params, c, ctx, begin, end, later, local);
+    // The near candidates [begin, end) of share t's chunk `chunk`.
+    const auto chunk_range = [&](std::size_t t, std::int64_t chunk) {
+      const std::int64_t begin = near_begin[t] + chunk * steal_chunk;
+      return std::pair{begin, std::min(begin + steal_chunk, near_begin[t + 1])};
+    };
+    std::int64_t done = 0;
+    if (!as_planned) {
+      // The runtime gave fewer threads than planned: one thread takes every contact and adds
+      // every sum itself.
+      if (me == 0) pair_share<Law, Sums::direct>(params, c, ctx, 0, static_cast<std::int64_t>(c.near.size()), nullptr, local);
+    } else {
+      // Its own share from the front, in contact order (the first share adds every sum itself)...
+      for (std::int64_t chunk; (chunk = queues[me].take_front()) >= 0;) {
+        const auto [begin, end] = chunk_range(me, chunk);
+        if (me == 0) pair_share<Law, Sums::direct>(params, c, ctx, begin, end, nullptr, local);
+        else pair_share<Law, Sums::defer_shared>(params, c, ctx, begin, end, &c.deferred[me], local);
+        done += end - begin;
+      }
+      // ...then chunks from the back of the share with the most left, deferring every sum.
+      for (;;) {
+        std::size_t from = shares;
+        std::int64_t most = 0;
+        for (std::size_t t = 0; t < shares; ++t)
+          if (const std::int64_t left = queues[t].left(); left > most) most = left, from = t;
+        if (from == shares) break;
+        const std::int64_t chunk = queues[from].take_back();
+        if (chunk < 0) continue;
+        const auto [begin, end] = chunk_range(from, chunk);
+        pair_share<Law, Sums::defer_all>(params, c, ctx, begin, end,
+                                         &c.taken[static_cast<std::size_t>(chunk_base[from] + chunk)], local);
+        done += end - begin;
+      }
+    }
 #if defined(_OPENMP)
-    if (as_planned && threads > 1 && c.share_seconds.size() == static_cast<std::size_t>(threads))
-      c.share_seconds[static_cast<std::size_t>(me)] += omp_get_wtime() - started;
+    if (as_planned) {
+      c.share_seconds[me] += omp_get_wtime() - started;
+      c.share_done[me] += done;
+    }
 #endif
 #pragma omp critical(dem_overlap_monitor)
     merge_worst(worst, local);
   }
-  // Then the later shares' parts, share by share: each shared particle's sum in contact order.
-  for (std::size_t t = 1; t < c.deferred.size(); ++t) add_deferred(ctx, c.deferred[t]);
+  // Then the deferred parts in contact order, share by share: its own thread's, then those of the
+  // chunks other threads took from its end. Each particle's sum is the serial one.
+  for (std::size_t t = 0; t < shares; ++t) {
+    add_deferred(ctx, c.deferred[t]);
+    for (std::int64_t g = chunk_base[t]; g < chunk_base[t + 1]; ++g) add_deferred(ctx, c.taken[static_cast<std::size_t>(g)]);
+  }
 }
 
 }  // namespace dem::detail

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <algorithm>
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -94,5 +95,39 @@ std::vector<std::int64_t> split_work(std::int64_t count, const std::vector<doubl
   }
   return border;
 }
+
+/// The chunks of one thread's share of a loop still to run, [front, back): its own thread takes
+/// them from the front, and a thread that has run out of work takes them from the back, so that
+/// threads finish together even when a core slows down mid-loop. Front and back share one word,
+/// so a claim is one compare-and-swap and no chunk is taken twice. A claim hands over no data
+/// (each chunk's memory belongs to whoever claims it), so it needs no ordering.
+class alignas(64) ChunkQueue {
+ public:
+  /// Chunks [0, chunks) left; no more than 2^32 - 1.
+  void reset(std::int64_t chunks) { bounds_.store(static_cast<std::uint64_t>(chunks), std::memory_order_relaxed); }
+  /// The next chunk from the front, or -1 when none is left.
+  std::int64_t take_front() { return take(true); }
+  /// The last chunk left, or -1 when none is left.
+  std::int64_t take_back() { return take(false); }
+  /// How many chunks are left (a snapshot).
+  std::int64_t left() const {
+    const std::uint64_t b = bounds_.load(std::memory_order_relaxed);
+    return static_cast<std::int64_t>(b & low) - static_cast<std::int64_t>(b >> 32);
+  }
+
+ private:
+  static constexpr std::uint64_t low = 0xffffffffu;
+  std::int64_t take(bool from_front) {
+    std::uint64_t b = bounds_.load(std::memory_order_relaxed);
+    for (;;) {
+      const std::uint64_t front = b >> 32, back = b & low;
+      if (front >= back) return -1;
+      const std::uint64_t next = from_front ? ((front + 1) << 32) | back : (front << 32) | (back - 1);
+      if (bounds_.compare_exchange_weak(b, next, std::memory_order_relaxed))
+        return static_cast<std::int64_t>(from_front ? front : back - 1);
+    }
+  }
+  std::atomic<std::uint64_t> bounds_{0};  // front in the high half, back in the low half
+};
 
 }  // namespace dem
