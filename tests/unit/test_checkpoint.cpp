@@ -78,10 +78,14 @@ std::string first_difference(const std::string& a, const std::string& b) {
          std::to_string(b.size());
 }
 
-/// The parts of shared particles' sums the last step's later thread shares left for afterwards.
+/// The parts of particles' sums the last step's threads left for afterwards: the later shares'
+/// shared particles, and the chunks a thread took from another's share (which may be all of a
+/// share whose thread got no core).
 std::size_t deferred_sums(const World& world) {
   std::size_t count = 0;
-  for (const auto& later : world.pair_contacts(ContactKind::BallBall).deferred) count += later.size();
+  const PairContacts& c = world.pair_contacts(ContactKind::BallBall);
+  for (const auto& later : c.deferred) count += later.size();
+  for (const auto& later : c.taken) count += later.size();
   return count;
 }
 
