@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 
+#include <dem/core/contact_loops.hpp>
 #include <dem/core/errors.hpp>
 #include <dem/core/world.hpp>
 
@@ -91,6 +92,15 @@ void World::compute_forces(bool record_pair_forces) {
   }
   ctx.scatter_force = p.f.data();
   ctx.scatter_torque = p.t.data();
+  // The walls' totals of this step. The wall loops add into them as they go, unless the World is
+  // spread: then every subdomain's wall records come first (share_contact_results).
+  for (auto& w : state_.walls) {
+    w.force.setZero();
+    w.moment.setZero();
+    w.contact_count = 0;
+    w.stiffness_sum = 0.0;
+  }
+  if (!spread()) ctx.wall_totals = &state_.walls;
   const bool parallel = threads_for(static_cast<std::int64_t>(contacts.ball_ball.size()), threads_) > 1;
   if (parallel) {
     plan_shares();
@@ -120,25 +130,10 @@ void World::compute_forces(bool record_pair_forces) {
   share_contact_results(worst.monitor.ratio);  // spread over processes: pebbles and wall contacts of every subdomain
   time_into(timing_.communication);
 
-  for (auto& w : state_.walls) {
-    w.force.setZero();
-    w.moment.setZero();
-    w.contact_count = 0;
-    w.stiffness_sum = 0.0;
-  }
-  contacts.for_each_wall_set([&](const WallContacts& wc) {
-    for (std::size_t k = 0; k < wc.size(); ++k) {
-      if (wc.normal_stiffness[k] == 0.0) continue;
-      const auto b = static_cast<std::size_t>(wc.ball[k]);
-      Wall& w = state_.walls[static_cast<std::size_t>(wc.wall[k])];
-      p.f[b] -= wc.force[k];
-      p.t[b] += wc.torque_ball[k];
-      w.force += wc.force[k];
-      w.moment += (wc.point[k] - w.reference_point).cross(wc.force[k]) + wc.moment[k];
-      ++w.contact_count;
-      w.stiffness_sum += wc.normal_stiffness[k];
-    }
-  });
+  if (!ctx.wall_totals)
+    contacts.for_each_wall_set([&](const WallContacts& wc) {
+      detail::add_wall_contacts(wc, 0, static_cast<std::int64_t>(wc.size()), p.f.data(), p.t.data(), state_.walls);
+    });
   pair_records_current_ = record_pair_forces;
   check_stability(global_worst(worst));
   time_into(timing_.force_sums);

@@ -64,6 +64,12 @@ struct KernelContext {
   /// normal_force) this step: only on steps after which they can be read (World::ContactRecords).
   /// The sums into the particles, the history and `touching` are written on every step.
   bool record_pair_forces = true;
+  /// Where the wall loops add each touching wall contact into its ball's sums (scatter_force,
+  /// scatter_torque) and its wall's totals (force, moment, contact count, stiffness), in contact
+  /// order, each thread its own share as soon as the shares before it are added: the records stay
+  /// in the cache of the core that wrote them. Null: the World adds them after the loops (as a
+  /// World spread over processes must, once the subdomains have shared their records).
+  std::vector<Wall>* wall_totals = nullptr;
   /// A World spread over processes (World::spread_over) computes the wall contacts of its own
   /// balls only, storage indices [owned_begin, owned_end); the others keep their records.
   std::int64_t owned_begin = 0;

@@ -196,6 +196,25 @@ void wall_share(const typename Law::Params& params, WallContacts& c, const Kerne
   wall_range<Law>(params, c, ctx, begin, end, closest_of, local);
 }
 
+/// Adds the touching contacts [begin, end) of c, in order, into their balls' sums (force, torque)
+/// and their walls' totals (KernelContext::wall_totals; the World's own loop when it adds them
+/// after the loops).
+inline void add_wall_contacts(const WallContacts& c, std::int64_t begin, std::int64_t end, Vec3* force, Vec3* torque,
+                              std::vector<Wall>& walls) {
+  for (std::int64_t k = begin; k < end; ++k) {
+    if (c.normal_stiffness[static_cast<std::size_t>(k)] == 0.0) continue;
+    const auto b = static_cast<std::size_t>(c.ball[static_cast<std::size_t>(k)]);
+    const Vec3& f = c.force[static_cast<std::size_t>(k)];
+    Wall& w = walls[static_cast<std::size_t>(c.wall[static_cast<std::size_t>(k)])];
+    force[b] -= f;
+    torque[b] += c.torque_ball[static_cast<std::size_t>(k)];
+    w.force += f;
+    w.moment += (c.point[static_cast<std::size_t>(k)] - w.reference_point).cross(f) + c.moment[static_cast<std::size_t>(k)];
+    ++w.contact_count;
+    w.stiffness_sum += c.normal_stiffness[static_cast<std::size_t>(k)];
+  }
+}
+
 /// The wall loop over c's candidates: `closest(k, wall, centre, best_sq)` gives the closest point of
 /// candidate k's wall to the ball's centre and its squared distance; the law and the records are
 /// the same for every wall geometry. `work` weighs the candidates for the thread count.
@@ -211,6 +230,8 @@ void wall_loop(const typename Law::Params& params, WallContacts& c, const Kernel
   c.normal_stiffness.resize(c.size());
   const int threads = threads_for(work, ctx.threads);
   // Each contact writes only its own records: the same results for any thread count and split.
+  // Then each thread adds its share into the sums when the shares before it are in (`turn`).
+  std::atomic<std::int64_t> turn{0};
 #pragma omp parallel num_threads(threads)
   {
     OverlapMonitor local;
@@ -225,6 +246,14 @@ void wall_loop(const typename Law::Params& params, WallContacts& c, const Kernel
     const std::int64_t begin = share_begin(count, ctx.thread_fractions, team, me);
     const std::int64_t end = share_begin(count, ctx.thread_fractions, team, me + 1);
     wall_share<Law>(params, c, ctx, begin, end, closest_of, local);
+    if (ctx.wall_totals) {
+      // Waiting is rare (the shares are sized to end together); a thread that waits for one
+      // without a core yields it.
+      for (int spins = 0; turn.load(std::memory_order_acquire) != me; ++spins)
+        if (spins >= 64) std::this_thread::yield();
+      add_wall_contacts(c, begin, end, ctx.scatter_force, ctx.scatter_torque, *ctx.wall_totals);
+      turn.store(me + 1, std::memory_order_release);
+    }
 #pragma omp critical(dem_overlap_monitor)
     merge_worst(worst, local);
   }
