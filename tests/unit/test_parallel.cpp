@@ -1,6 +1,7 @@
 // The threads' shares of a loop: what speed_fractions gives for measured speeds, where
-// share_begin and split_work put the borders, and how ChunkQueue hands out a share's chunks. The expected values are ratios of small integers,
-// so the tolerance only absorbs a few double roundings.
+// share_begin and split_work put the borders, and how ChunkQueue hands out a share's chunks. The
+// expected values are ratios of small integers, so the tolerance only absorbs a few double
+// roundings.
 #include <dem/core/parallel.hpp>
 
 #include <catch2/catch.hpp>

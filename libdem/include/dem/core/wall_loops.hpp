@@ -249,8 +249,9 @@ void wall_loop(const typename Law::Params& params, WallContacts& c, const Kernel
     if (ctx.wall_totals) {
       // Waiting is rare (the shares are sized to end together); a thread that waits for one
       // without a core yields it.
-      for (int spins = 0; turn.load(std::memory_order_acquire) != me; ++spins)
-        if (spins >= 64) std::this_thread::yield();
+      for (int spins = 0; turn.load(std::memory_order_acquire) != me;)
+        if (spins < 64) ++spins;
+        else std::this_thread::yield();
       add_wall_contacts(c, begin, end, ctx.scatter_force, ctx.scatter_torque, *ctx.wall_totals);
       turn.store(me + 1, std::memory_order_release);
     }
