@@ -56,6 +56,16 @@ inline void merge_worst(OverlapMonitor& into, const OverlapMonitor& other) {
     into = other;
 }
 
+/// Keeps {overlap / smaller, k} in `worst` if that ratio is the larger. The division (among the
+/// slowest instructions) runs only where the ratio can be larger: for smaller > 0 and rounding to
+/// nearest, overlap / smaller > w implies overlap >= w * smaller in floating point too, so the
+/// same contacts are kept as with a division for each.
+DEM_HOT_INLINE void note_overlap(OverlapMonitor& worst, double overlap, double smaller, std::int64_t k) {
+  if (!(overlap >= worst.ratio * smaller)) return;
+  const double ratio = overlap / smaller;
+  if (ratio > worst.ratio) worst = OverlapMonitor{ratio, k};
+}
+
 /// A candidate found separated: its history ends (docs/model.md 1.1) and its records are zeroed.
 template <class State>
 void end_contact(PairContacts& c, std::int64_t k) {
@@ -153,8 +163,7 @@ void pair_range(const typename Law::Params& params, PairContacts& c, const Kerne
     const Vec3 torque_first = -arm_first.cross(out.force) - out.moment;
     add_to_particles<Mode>(ctx, later, i, j, lane(out.force), lane(torque_first),
                                lane(second_torque(d, out.force, torque_first)));
-    const double ratio = kin.overlap / std::min(p.radius[i], p.radius[j]);
-    if (ratio > local.ratio) local = OverlapMonitor{ratio, k};
+    note_overlap(local, kin.overlap, std::min(p.radius[i], p.radius[j]), k);
   }
 }
 
@@ -355,6 +364,7 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
   static_assert(sizeof(Vec3) == 3 * sizeof(double), "the block reads Vec3 arrays as doubles");
   b.velocity = p.v.data()->data(), b.angular_velocity = p.w.data()->data(), b.inv_mass = inv_mass;
   const BlockKernel<Law, PairBlock<State>> compute_block = block_kernel<Law, PairBlock<State>>(params, block_isa());
+  OverlapMonitor worst = local;  // in registers: the loop's stores could alias `local`
   for (std::int64_t a = begin; a < end;) {
     // The touching candidates of the next stretch, in order, without a branch on which ones
     // touch (three in four near candidates do, in no predictable pattern): every candidate is
@@ -402,11 +412,11 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
       touching[k_m] = b.touching[m] != 0.0;
       add_to_particles<Mode>(ctx, later, i, j, f, Lane3{b.t1x[m], b.t1y[m], b.t1z[m]},
                                  Lane3{b.t2x[m], b.t2y[m], b.t2z[m]});
-      // The overlap ratio's division here, in the scalar loop, leaves the block's divider to the law.
-      const double ratio = b.overlap[m] / std::min(b.radius_1[m], b.radius_2[m]);
-      if (ratio > local.ratio) local = OverlapMonitor{ratio, k_m};
+      // The overlap ratio here, in the scalar loop, leaves the block's divider to the law.
+      note_overlap(worst, b.overlap[m], std::min(b.radius_1[m], b.radius_2[m]), k_m);
     }
   }
+  local = worst;
 }
 
 /// One mode's loop for one thread's share: blocks for a lane law where they pay (lanes_worthwhile),

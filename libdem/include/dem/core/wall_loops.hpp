@@ -134,8 +134,7 @@ void wall_range(const typename Law::Params& params, WallContacts& c, const Kerne
     c.moment[k] = out.moment;
     c.normal_force[k] = out.normal_force;
     c.normal_stiffness[k] = out.normal_stiffness;
-    const double ratio = kin.overlap / r;
-    if (ratio > local.ratio) local = OverlapMonitor{ratio, k};
+    note_overlap(local, kin.overlap, r, k);
   }
 }
 
@@ -179,8 +178,7 @@ void wall_range_lanes(const typename Law::Params& params, WallContacts& c, const
       c.moment[k_m] = Vec3(b.mx[m], b.my[m], b.mz[m]);
       c.normal_force[k_m] = b.normal_force[m];
       c.normal_stiffness[k_m] = b.normal_stiffness[m];
-      const double ratio = b.overlap[m] / b.radius[m];
-      if (ratio > local.ratio) local = OverlapMonitor{ratio, k_m};
+      note_overlap(local, b.overlap[m], b.radius[m], k_m);
     }
   }
 }
