@@ -192,4 +192,23 @@ TEST_CASE("determinism: one and two threads give bit-identical trajectories", "[
   CHECK(contact_steps > 2 * 300 * 1000);  // on average > 1000 touching contacts per step
   CHECK(one.particles().x == two.particles().x);
   CHECK(one.particles().w == two.particles().w);
+
+  // The second share adds the sums of its unshared run directly: no particle of that run may be
+  // touched by a contact of the other share, and the run holds most of the share (only the
+  // particles near the cut between the shares are shared).
+  const PairContacts& c = two.pair_contacts(ContactKind::BallBall);
+  REQUIRE(c.shares.size() == 3);
+  REQUIRE(c.unshared_run.size() == 2);
+  std::vector<int> touched_by(two.particles().size(), 0);  // bit t: share t touches it
+  for (int t = 0; t < 2; ++t)
+    for (std::int64_t k = c.shares[t]; k < c.shares[t + 1]; ++k)
+      for (const std::int32_t piece : {c.first[k], c.second[k]}) touched_by[piece] |= 1 << t;
+  const auto [run_begin, run_end] = c.unshared_run[1];
+  CHECK(run_begin >= c.shares[1]);
+  CHECK(run_end <= c.shares[2]);
+  CHECK(run_end - run_begin > (c.shares[2] - c.shares[1]) / 2);
+  std::int64_t touched_by_both = 0;
+  for (std::int64_t k = run_begin; k < run_end; ++k)
+    for (const std::int32_t piece : {c.first[k], c.second[k]}) touched_by_both += touched_by[piece] == 3;
+  CHECK(touched_by_both == 0);
 }

@@ -67,6 +67,23 @@ void World::plan_shares() {
           else if (o != t) shared_[static_cast<std::size_t>(piece)] = 1;
         }
   });
+  // Each share's longest run of contacts that touch no particle shared between shares (shared_
+  // is complete only now: a particle can be shared in any of the sets).
+  state_.contacts.for_each_pair_set([&](PairContacts& c) {
+    c.unshared_run.assign(c.shares.empty() ? 0 : c.shares.size() - 1, {0, 0});
+    for (std::size_t t = 0; t < c.unshared_run.size(); ++t) {
+      auto& longest = c.unshared_run[t];
+      std::int64_t run_begin = c.shares[t];
+      for (std::int64_t k = c.shares[t]; k <= c.shares[t + 1]; ++k) {
+        const auto s = static_cast<std::size_t>(k);
+        if (k < c.shares[t + 1] && shared_[static_cast<std::size_t>(c.first[s])] == 0 &&
+            shared_[static_cast<std::size_t>(c.second[s])] == 0)
+          continue;
+        if (k - run_begin > longest.second - longest.first) longest = {run_begin, k};
+        run_begin = k + 1;
+      }
+    }
+  });
   share_plan_stale_ = false;
   shares_planned_at_ = state_.clock.steps;
 }

@@ -11,6 +11,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include <dem/contact/kinematics.hpp>
@@ -63,6 +64,10 @@ struct PairContacts {
   /// threads finish together). A thread that finishes first takes chunks of steal_chunk near
   /// candidates from the end of another's share (contact_loops.hpp).
   std::vector<std::int64_t> shares;
+  /// Per share, its longest run of contacts [begin, end) whose particles no other share touches
+  /// (World::plan_shares): a later share adds their sums directly, without asking per particle
+  /// whether to defer them (the answer is no for every one).
+  std::vector<std::pair<std::int64_t, std::int64_t>> unshared_run;
   /// Per thread: the near candidates it computed since the plan, and the seconds it took (the
   /// next plan gives a thread on a faster core a larger share).
   std::vector<std::int64_t> share_done;

@@ -455,6 +455,12 @@ void compute_pairs(const typename Law::Params& params, PairContacts& c, const Ke
     if (t > 0)
       chunk_base[t] = chunk_base[t - 1] + (near_begin[t] - near_begin[t - 1] + steal_chunk - 1) / steal_chunk;
   }
+  // Each share's unshared run (PairContacts::unshared_run) as near candidates.
+  std::vector<std::pair<std::int64_t, std::int64_t>> unshared_near(shares, {0, 0});
+  for (std::size_t t = 0; t < shares && t < c.unshared_run.size(); ++t) {
+    const auto near_of = [&c](std::int64_t k) { return std::lower_bound(c.near.begin(), c.near.end(), k) - c.near.begin(); };
+    unshared_near[t] = {near_of(c.unshared_run[t].first), near_of(c.unshared_run[t].second)};
+  }
   std::unique_ptr<ChunkQueue[]> queues(new ChunkQueue[shares]);
   for (std::size_t t = 0; t < shares; ++t) queues[t].reset(chunk_base[t + 1] - chunk_base[t]);
   c.deferred.resize(shares);
@@ -481,6 +487,16 @@ void compute_pairs(const typename Law::Params& params, PairContacts& c, const Ke
       const std::int64_t begin = near_begin[t] + chunk * steal_chunk;
       return std::pair{begin, std::min(begin + steal_chunk, near_begin[t + 1])};
     };
+    // Share t's chunk [begin, end) in its own thread: the part in the share's unshared run with
+    // every sum added directly (no particle there is shared), the rest deferring the shared ones.
+    const auto own_chunk = [&](std::size_t t, std::int64_t begin, std::int64_t end) {
+      if (t == 0) return pair_share<Law, Sums::direct>(params, c, ctx, begin, end, nullptr, local);
+      const std::int64_t direct_begin = std::clamp(unshared_near[t].first, begin, end);
+      const std::int64_t direct_end = std::clamp(unshared_near[t].second, direct_begin, end);
+      pair_share<Law, Sums::defer_shared>(params, c, ctx, begin, direct_begin, &c.deferred[t], local);
+      pair_share<Law, Sums::direct>(params, c, ctx, direct_begin, direct_end, nullptr, local);
+      pair_share<Law, Sums::defer_shared>(params, c, ctx, direct_end, end, &c.deferred[t], local);
+    };
     std::int64_t done = 0;
     if (!as_planned) {
       // The runtime gave fewer threads than planned: one thread takes every contact and adds
@@ -490,8 +506,7 @@ void compute_pairs(const typename Law::Params& params, PairContacts& c, const Ke
       // Its own share from the front, in contact order (the first share adds every sum itself)...
       for (std::int64_t chunk; (chunk = queues[me].take_front()) >= 0;) {
         const auto [begin, end] = chunk_range(me, chunk);
-        if (me == 0) pair_share<Law, Sums::direct>(params, c, ctx, begin, end, nullptr, local);
-        else pair_share<Law, Sums::defer_shared>(params, c, ctx, begin, end, &c.deferred[me], local);
+        own_chunk(me, begin, end);
         done += end - begin;
       }
       // ...then chunks from the back of the share with the most left, deferring every sum.
