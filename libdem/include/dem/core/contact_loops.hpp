@@ -205,12 +205,10 @@ struct PairBlock : BlockHistory<State> {
   // inputs: branch d = x2 - x1 and radii (found while choosing the touching candidates)
   double dx[pair_block], dy[pair_block], dz[pair_block];
   double radius_1[pair_block], radius_2[pair_block];
-  // The particles' velocities (m/s), angular velocities (rad/s), 3 doubles a particle, and inverse
-  // masses (1/kg): the block reads them by first[] and second[] itself. Loaded into SIMD lanes
-  // there, they cost less than staging them into arrays first (5 % of the 14k benchmark's step).
-  const double* velocity = nullptr;
-  const double* angular_velocity = nullptr;
-  const double* inv_mass = nullptr;
+  // Both pieces' velocities (m/s) and angular velocities (rad/s), x y z of each contact in turn,
+  // and inverse masses (1/kg), copied from the particles for the touching candidates only.
+  double v1[3 * pair_block], v2[3 * pair_block], w1[3 * pair_block], w2[3 * pair_block];
+  double inv_mass_1[pair_block], inv_mass_2[pair_block];
   // results: force on piece 2, torques on pieces 1 and 2, elastic normal force, overlap (the
   // scalar loop divides it by the smaller radius into the overlap ratio: a division is among the
   // block's slowest instructions), and 1 where the contact still touches (non-zero normal force or
@@ -254,17 +252,14 @@ DEM_INDEPENDENT_ITERATIONS
     kin.overlap = reach - dist;
     const Lane3 arm_first = (r1 - 0.5 * kin.overlap) * kin.normal;  // x_c - x_1
     const Lane3 arm_second = arm_first - d;                         // x_c - x_2
-    const std::int64_t i3 = 3 * static_cast<std::int64_t>(b.first[m]), j3 = 3 * static_cast<std::int64_t>(b.second[m]);
-    const double* w = b.angular_velocity;
-    const double* v = b.velocity;
-    const Lane3 w1{w[i3], w[i3 + 1], w[i3 + 2]}, w2{w[j3], w[j3 + 1], w[j3 + 2]};
-    const Lane3 v1{v[i3], v[i3 + 1], v[i3 + 2]}, v2{v[j3], v[j3 + 1], v[j3 + 2]};
+    const Lane3 w1{b.w1[3 * m], b.w1[3 * m + 1], b.w1[3 * m + 2]}, w2{b.w2[3 * m], b.w2[3 * m + 1], b.w2[3 * m + 2]};
+    const Lane3 v1{b.v1[3 * m], b.v1[3 * m + 1], b.v1[3 * m + 2]}, v2{b.v2[3 * m], b.v2[3 * m + 1], b.v2[3 * m + 2]};
     kin.relative_velocity = (v2 + cross(w2, arm_second)) - (v1 + cross(w1, arm_first));
     kin.relative_angular_velocity = w2 - w1;
     kin.radius_1 = r1;
     kin.radius_2 = r2;
     kin.effective_radius = r1 * r2 / reach;
-    kin.effective_mass = 1.0 / (b.inv_mass[b.first[m]] + b.inv_mass[b.second[m]]);
+    kin.effective_mass = 1.0 / (b.inv_mass_1[m] + b.inv_mass_2[m]);
     kin.dt = dt;
     kin.kind = kind;
     typename Law::State state;
@@ -361,8 +356,9 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
   std::uint8_t* touching = c.touching.data();
   const bool record = ctx.record_pair_forces;
   PairBlock<State> b;
-  static_assert(sizeof(Vec3) == 3 * sizeof(double), "the block reads Vec3 arrays as doubles");
-  b.velocity = p.v.data()->data(), b.angular_velocity = p.w.data()->data(), b.inv_mass = inv_mass;
+  static_assert(sizeof(Vec3) == 3 * sizeof(double), "the block takes a Vec3 as three doubles");
+  const Vec3* v = p.v.data();
+  const Vec3* w = p.w.data();
   const BlockKernel<Law, PairBlock<State>> compute_block = block_kernel<Law, PairBlock<State>>(params, block_isa());
   OverlapMonitor worst = local;  // in registers: the loop's stores could alias `local`
   for (std::int64_t a = begin; a < end;) {
@@ -393,7 +389,18 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
         DEM_PREFETCH_FOR_WRITE(&normal_force[k]);
       }
     }
-    for (int m = 0; m < count; ++m) b.load_history(m, c.state.at(static_cast<std::size_t>(b.contact[m])));
+    for (int m = 0; m < count; ++m) {
+      b.load_history(m, c.state.at(static_cast<std::size_t>(b.contact[m])));
+      // Copied here, for the touching ones only, as three doubles a piece: the block's SIMD lanes
+      // load such strided arrays whole and shuffle them, where loads by particle index cost
+      // about three instructions a double (half of the block's instructions).
+      const auto i = static_cast<std::size_t>(b.first[m]), j = static_cast<std::size_t>(b.second[m]);
+      std::memcpy(&b.v1[3 * m], v[i].data(), sizeof(Vec3));
+      std::memcpy(&b.v2[3 * m], v[j].data(), sizeof(Vec3));
+      std::memcpy(&b.w1[3 * m], w[i].data(), sizeof(Vec3));
+      std::memcpy(&b.w2[3 * m], w[j].data(), sizeof(Vec3));
+      b.inv_mass_1[m] = inv_mass[i], b.inv_mass_2[m] = inv_mass[j];
+    }
     compute_block(params, b, count, ctx.dt, c.kind);
     for (int m = 0; m < count; ++m) {
       const std::int64_t k_m = b.contact[m];
