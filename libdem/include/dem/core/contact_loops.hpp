@@ -34,10 +34,13 @@
 #define DEM_INDEPENDENT_ITERATIONS
 #endif
 
-// "This address will be written soon": starts loading its cache line (a hint; no effect on results).
+// "This address will be read (written) soon": starts loading its cache line (a hint; no effect on
+// results).
 #if defined(__GNUC__)
+#define DEM_PREFETCH_FOR_READ(address) __builtin_prefetch((address), 0)
 #define DEM_PREFETCH_FOR_WRITE(address) __builtin_prefetch((address), 1)
 #else
+#define DEM_PREFETCH_FOR_READ(address) ((void)(address))
 #define DEM_PREFETCH_FOR_WRITE(address) ((void)(address))
 #endif
 
@@ -338,6 +341,19 @@ BlockKernel<Law, Block> block_kernel(const typename Law::Params& params, BlockIs
     return block_kernel_among<Law, Block>(params, isa, std::make_index_sequence<1>{});
 }
 
+/// Whether the pair loop asks for the second pieces' velocity, spin, force and torque lines while
+/// it scans (for the copy pass and the sums after the block). Those pieces lie up to a plane of
+/// cells ahead in particle order, so where a step's data outgrows the last-level cache they come
+/// from main memory: asked for ahead, the 112k benchmark runs about 6 % faster on one thread.
+/// Where the data fits (14k), the lines are near already and the requests cost about 3 %.
+/// The data counted: the particles' arrays the loop reads and writes, and each candidate's indices,
+/// history and flag.
+inline bool prefetch_second_pieces(std::size_t particles, std::size_t candidates, std::size_t history_bytes) {
+  constexpr std::size_t particle_bytes = 5 * sizeof(Vec3) + 2 * sizeof(double);  // x v w f t, radius, 1/m
+  constexpr std::size_t cache_bytes = std::size_t{16} << 20;  // half a server core group's L3: others use it too
+  return particles * particle_bytes + candidates * (2 * sizeof(std::int32_t) + history_bytes + 1) > cache_bytes;
+}
+
 /// pair_range for a lane law: the same near candidates, block by block. Sums into particles happen
 /// in contact order, as in pair_range, so both give the same bits.
 template <LaneContactLaw Law, Sums Mode>
@@ -361,6 +377,7 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
   const Vec3* w = p.w.data();
   const BlockKernel<Law, PairBlock<State>> compute_block = block_kernel<Law, PairBlock<State>>(params, block_isa());
   OverlapMonitor worst = local;  // in registers: the loop's stores could alias `local`
+  const bool prefetch_second = prefetch_second_pieces(p.size(), c.size(), sizeof(State));
   for (std::int64_t a = begin; a < end;) {
     // The touching candidates of the next stretch, in order, without a branch on which ones
     // touch (three in four near candidates do, in no predictable pattern): every candidate is
@@ -387,6 +404,12 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
       if (record) {
         DEM_PREFETCH_FOR_WRITE(&force[k]);
         DEM_PREFETCH_FOR_WRITE(&normal_force[k]);
+      }
+      if (prefetch_second) {
+        DEM_PREFETCH_FOR_READ(&v[j]);
+        DEM_PREFETCH_FOR_READ(&w[j]);
+        DEM_PREFETCH_FOR_WRITE(&ctx.scatter_force[j]);
+        DEM_PREFETCH_FOR_WRITE(&ctx.scatter_torque[j]);
       }
     }
     for (int m = 0; m < count; ++m) {
@@ -612,6 +635,7 @@ std::shared_ptr<const ContactModel> make_contact_model(const typename Law::Param
 
 // The loops above have taken these in; they are not part of the API.
 #undef DEM_INDEPENDENT_ITERATIONS
+#undef DEM_PREFETCH_FOR_READ
 #undef DEM_PREFETCH_FOR_WRITE
 #undef DEM_TARGET_AVX2
 #undef DEM_TARGET_AVX512
