@@ -354,11 +354,14 @@ TEST_CASE("snapshots: displacements follow ball ids across re-sorting, pvd lists
   lab::SnapshotWriter writer(out);
   writer.write(world, "a", 0.5, 0.0);
 
-  const Vec3 offset(1e-4, -2e-4, 3e-4);  // m
+  // Past the scene's lowest corner on every axis: the loner's cell comes first in any order of
+  // the cells, where before it came after the balls below and beside it.
+  const Vec3 offset(-60e-3, -30e-3, -30e-3);  // m
   const std::size_t before = world.particles().index_of(scene.loner);
   world.particles().x[before] += offset;
   world.rebuild_now(true);
-  REQUIRE(world.particles().index_of(scene.loner) != before);  // storage really was re-sorted
+  REQUIRE(before != 0);
+  REQUIRE(world.particles().index_of(scene.loner) == 0);  // storage really was re-sorted
   world.step(1);
   writer.write(world, "b", 0.75, 0.2);
   CHECK(writer.snapshots() == 2);
