@@ -78,25 +78,38 @@ TEST_CASE("shear fidelity: fixed rings stay at their heights while the plate mov
 }
 
 TEST_CASE("shear fidelity: the servo generation ends near the target porosity at the generation stress", "[simple-shear][generation]") {
-  dem::testing::TempDir dir("generation_servo");
-  io::Config c = reduced_specimen();
-  c.set("specimen.porosity", "0.47");  // looser than frictionless spheres pack in so low a cell (0.45)
-  // A cell 2.5 balls high compacts through its height quickly: the default settle per schedule
-  // step takes it past the target onto the plate's lowest position, where the plate no longer
-  // holds it. 3000 steps stop the schedule within the tolerance, above that floor.
-  c.set("generation.steps_per_stage", "3000");
-  std::ostringstream log;
-  SimpleShearTest test(simple_shear_config(c), dir.path, log);
-  test.generate();
-  const SpecimenState& g = test.generated_state();
-  INFO(log.str());
-  // The plate never sinks below the specimen height, so the porosity is at least the target's
-  // (the count is drawn for it: up to one ball off); the schedule stops within the tolerance.
-  CHECK(g.porosity >= c.real("specimen.porosity") - 0.005);
-  CHECK(g.porosity <= c.real("specimen.porosity") + c.real("generation.porosity_tolerance") + 1e-9);
-  // Held by the servo at 5 kPa: generation settles within 10 % of it.
-  CHECK(g.vertical_stress == Approx(5e3).epsilon(0.1));
-  CHECK(g.height >= c.real("specimen.height") * (1 - 1e-12));
+  // A cell 2.5 balls high at a porosity near what frictionless spheres pack to in it (0.45):
+  // one step of the friction schedule may compact the specimen by more than the tolerance band,
+  // past the target and onto the plate's lowest position (specimen.height, where the ball count
+  // gives the target porosity), where the plate no longer holds it. Which packings do that depends
+  // on their trajectories (measured on seeds 1-8: two of eight), so each of three packings is held
+  // to the protocol's promise rather than to one outcome.
+  for (const int seed : {1, 2, 3}) {
+    dem::testing::TempDir dir("generation_servo");
+    io::Config c = reduced_specimen();
+    c.set("specimen.seed", std::to_string(seed));
+    c.set("specimen.porosity", "0.47");  // looser than frictionless spheres pack in so low a cell (0.45)
+    // Each schedule step settles until the plate holds the generation stress (or this many steps).
+    c.set("generation.steps_per_stage", "20000");
+    std::ostringstream log;
+    SimpleShearTest test(simple_shear_config(c), dir.path, log);
+    test.generate();
+    const SpecimenState& g = test.generated_state();
+    INFO("seed " << seed << "\n" << log.str());
+    // The plate never sinks below the specimen height, so the porosity is at least the target's
+    // (the count is drawn for it: up to one ball off); the schedule stops within the tolerance.
+    CHECK(g.porosity >= c.real("specimen.porosity") - 0.005);
+    CHECK(g.porosity <= c.real("specimen.porosity") + c.real("generation.porosity_tolerance") + 1e-9);
+    CHECK(g.height >= c.real("specimen.height") * (1 - 1e-12));
+    // Held by the servo at 5 kPa, within the 10 % its settling asks for; or settled onto the
+    // plate's lowest position, below the stress, and said so.
+    const bool on_floor = g.height <= c.real("specimen.height") * (1 + 1e-9);
+    if (on_floor && g.vertical_stress < 0.9 * 5e3) {
+      CHECK_THAT(log.str(), Contains("settled onto the top plate's lowest position"));
+    } else {
+      CHECK(g.vertical_stress == Approx(5e3).epsilon(0.1));
+    }
+  }
 }
 
 TEST_CASE("shear fidelity: history counts contacts two ways and measures the profile of each interval", "[simple-shear][uniformity]") {
