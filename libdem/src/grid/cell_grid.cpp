@@ -29,6 +29,11 @@ void CellGrid::build(const std::vector<Vec3>& points, double min_cell_size, doub
     cell_ *= 1.25;
   origin_ = lo;
   for (int a = 0; a < 3; ++a) dims_[a] = static_cast<int>(std::floor(extent[a] / cell_)) + 1;
+  axes_ = {0, 1, 2};
+  std::stable_sort(axes_.begin(), axes_.end(), [this](int l, int r) { return dims_[l] > dims_[r]; });
+  stride_[axes_[2]] = 1;
+  stride_[axes_[1]] = dims_[axes_[2]];
+  stride_[axes_[0]] = static_cast<std::int64_t>(dims_[axes_[2]]) * dims_[axes_[1]];
 
   const std::int64_t cells = static_cast<std::int64_t>(dims_[0]) * dims_[1] * dims_[2];
   start_.assign(static_cast<std::size_t>(cells) + 1, 0);
@@ -63,6 +68,7 @@ void find_pairs(const std::vector<Vec3>& x, const std::vector<double>& radius, d
   std::vector<std::vector<std::int32_t>> local_first(static_cast<std::size_t>(nthreads)),
       local_second(static_cast<std::size_t>(nthreads));
   const auto dims = grid.dims();
+  const auto axes = grid.axes_slowest_first();
 #pragma omp parallel num_threads(nthreads)
   {
     const auto me = static_cast<std::size_t>(omp_get_thread_num());
@@ -74,18 +80,23 @@ void find_pairs(const std::vector<Vec3>& x, const std::vector<double>& radius, d
       const Vec3 xi = x[static_cast<std::size_t>(i)];
       const double ri = radius[static_cast<std::size_t>(i)] + skin;
       const auto c = grid.cell_of(xi);
-      const int x_lo = std::max(c[0] - 1, 0), x_hi = std::min(c[0] + 1, dims[0] - 1);
-      for (int dz = -1; dz <= 1; ++dz) {
-        const int iz = c[2] + dz;
-        if (iz < 0 || iz >= dims[2]) continue;
-        for (int dy = -1; dy <= 1; ++dy) {
-          const int iy = c[1] + dy;
-          if (iy < 0 || iy >= dims[1]) continue;
+      // Rows along the fastest axis of the grid's order, visited in that order.
+      const int slow = axes[0], middle = axes[1], fast = axes[2];
+      std::array<int, 3> lo = c, hi = c;
+      lo[fast] = std::max(c[fast] - 1, 0), hi[fast] = std::min(c[fast] + 1, dims[fast] - 1);
+      for (int d_slow = -1; d_slow <= 1; ++d_slow) {
+        const int s = c[slow] + d_slow;
+        if (s < 0 || s >= dims[slow]) continue;
+        lo[slow] = hi[slow] = s;
+        for (int d_middle = -1; d_middle <= 1; ++d_middle) {
+          const int m = c[middle] + d_middle;
+          if (m < 0 || m >= dims[middle]) continue;
+          lo[middle] = hi[middle] = m;
           // The row's three cells are neighbours in the grid's order: one run of points, cell by
           // cell, each cell's in ascending order. A row whose every point comes before i (each
           // cell's last point is its largest; all earlier rows once the particles are sorted by
           // cells) goes with three comparisons.
-          const std::int64_t row_lo = grid.linear(x_lo, iy, iz), row_hi = grid.linear(x_hi, iy, iz);
+          const std::int64_t row_lo = grid.linear(lo), row_hi = grid.linear(hi);
           const std::int32_t* it = grid.begin(row_lo);
           const std::int32_t* const last = grid.end(row_hi);
           std::int32_t row_max = -1;

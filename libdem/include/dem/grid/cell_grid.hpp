@@ -23,9 +23,15 @@ class CellGrid {
 
   /// Cell coordinates of a point (clamped to the grid).
   std::array<int, 3> cell_of(const Vec3& point) const;
-  std::int64_t linear(int ix, int iy, int iz) const {
-    return (static_cast<std::int64_t>(iz) * dims_[1] + iy) * dims_[0] + ix;
-  }
+  /// The cell's place in the grid's order: the grid's longest axis varies slowest, its shortest
+  /// fastest (of two axes as many cells long, x is the slower, then y). A plane of cells across
+  /// the slowest axis is then the smallest section of the specimen: contiguous shares of the
+  /// particles (threads, processes) have the fewest particles in common, and a particle's
+  /// neighbours lie closest in memory.
+  std::int64_t linear(int ix, int iy, int iz) const { return ix * stride_[0] + iy * stride_[1] + iz * stride_[2]; }
+  std::int64_t linear(const std::array<int, 3>& cell) const { return linear(cell[0], cell[1], cell[2]); }
+  /// The axes (0 x, 1 y, 2 z) from the slowest-varying in the grid's order to the fastest.
+  const std::array<int, 3>& axes_slowest_first() const { return axes_; }
 
   /// Indices of the points in cell `c` (a contiguous range of the sorted order).
   const std::int32_t* begin(std::int64_t c) const { return order_.data() + start_[static_cast<std::size_t>(c)]; }
@@ -41,6 +47,8 @@ class CellGrid {
   Vec3 origin_ = Vec3::Zero();
   double cell_ = 1.0;
   std::array<int, 3> dims_{1, 1, 1};
+  std::array<int, 3> axes_{0, 1, 2};              // slowest first
+  std::array<std::int64_t, 3> stride_{1, 1, 1};  // cells, along x, y, z
   std::vector<std::int32_t> start_;  // size cells + 1
   std::vector<std::int32_t> order_;  // point indices sorted by cell
 };
