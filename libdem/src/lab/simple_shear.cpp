@@ -139,7 +139,7 @@ void SimpleShearTest::expand_radii(const RadiusExpansion& expansion) {
     std::ostringstream detail;
     detail << "stage " << g.stage << "/" << expansion.stages << ", radius x" << expansion.factor(g.stage, g.increment) << ", unbalanced ratio "
            << world_->unbalanced_force_ratio() << ", top plate " << world_->wall(cell_.top).normal_stress() / 1e3
-           << " kPa, porosity " << specimen_state().porosity;
+           << " kPa, porosity " << specimen_state().porosity << ", step " << world_->step_count();
     log_ << "[generation] " << detail.str() << std::endl;
   }
   if (g.phase <= GenerationProgress::Settling) g.phase = GenerationProgress::FirstSettle, g.settled_steps = 0;
@@ -185,7 +185,8 @@ void SimpleShearTest::friction_schedule() {
     settle_generation(settled);
     g.phase = GenerationProgress::Reducing;
     log_ << "[generation] friction schedule: mu " << friction_now_ << ", mu_r " << rolling_friction_now_ << ", porosity "
-         << specimen_state().porosity << ", top plate " << world_->wall(cell_.top).normal_stress() / 1e3 << " kPa" << std::endl;
+         << specimen_state().porosity << ", top plate " << world_->wall(cell_.top).normal_stress() / 1e3 << " kPa, step "
+         << world_->step_count() << std::endl;
   }
   const SpecimenState state = specimen_state();
   const double porosity = state.porosity;

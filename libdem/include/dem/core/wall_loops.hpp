@@ -138,6 +138,21 @@ void wall_range(const typename Law::Params& params, WallContacts& c, const Kerne
   }
 }
 
+/// Candidates ahead whose ball the wall loop asks for: a wall's balls lie two to a row of cells
+/// (the row runs from the bottom plate to the top one), so each is a line of its own, from main
+/// memory on a large specimen.
+inline constexpr std::int64_t wall_prefetch_distance = 8;
+
+/// Starts loading the lines of ball b that a wall contact reads.
+DEM_HOT_INLINE void prefetch_wall_ball(const ParticleStore& p, std::int32_t b) {
+  const auto i = static_cast<std::size_t>(b);
+  DEM_PREFETCH_FOR_READ(&p.x[i]);
+  DEM_PREFETCH_FOR_READ(&p.v[i]);
+  DEM_PREFETCH_FOR_READ(&p.w[i]);
+  DEM_PREFETCH_FOR_READ(&p.radius[i]);
+  DEM_PREFETCH_FOR_READ(&p.inv_mass[i]);
+}
+
 /// wall_range for a lane law: the closest points one candidate at a time, the law in blocks of the
 /// touching ones. Each contact writes only its own records, so the order of the blocks is free.
 template <LaneContactLaw Law, class Closest>
@@ -151,6 +166,7 @@ void wall_range_lanes(const typename Law::Params& params, WallContacts& c, const
   for (std::int64_t k = begin; k < end;) {
     int count = 0;
     for (; k < end && count < pair_block; ++k) {
+      if (k + wall_prefetch_distance < end) prefetch_wall_ball(p, c.ball[k + wall_prefetch_distance]);
       Vec3 closest;
       double best_sq;
       if (!touching_wall<State>(c, ctx, k, closest_of, closest, best_sq)) continue;
@@ -200,6 +216,11 @@ void wall_share(const typename Law::Params& params, WallContacts& c, const Kerne
 inline void add_wall_contacts(const WallContacts& c, std::int64_t begin, std::int64_t end, Vec3* force, Vec3* torque,
                               std::vector<Wall>& walls) {
   for (std::int64_t k = begin; k < end; ++k) {
+    if (k + wall_prefetch_distance < end) {
+      const auto ahead = static_cast<std::size_t>(c.ball[static_cast<std::size_t>(k + wall_prefetch_distance)]);
+      DEM_PREFETCH_FOR_WRITE(&force[ahead]);
+      DEM_PREFETCH_FOR_WRITE(&torque[ahead]);
+    }
     if (c.normal_stiffness[static_cast<std::size_t>(k)] == 0.0) continue;
     const auto b = static_cast<std::size_t>(c.ball[static_cast<std::size_t>(k)]);
     const Vec3& f = c.force[static_cast<std::size_t>(k)];
