@@ -143,20 +143,34 @@ std::int64_t World::pebble_count() const {
 void World::update_pebbles() {
   ParticleStore& p = state_.particles;
   double travel_sq = state_.rebuild.max_travel_sq, near_travel_sq = broad_phase_.near_travel_sq();
+  // Plain pointers and the clump's motion in locals: a pebble's stores are doubles, which could
+  // be the clump's own or a vector's size for all the compiler knows, and it would reload each of
+  // them for every pebble (half of the loop's instructions).
+  Vec3* const x = p.x.data();
+  Vec3* const v = p.v.data();
+  Vec3* const w = p.w.data();
+  const Vec3* const x_at_rebuild = state_.rebuild.x_at_rebuild.data();
+  const std::size_t rebuild_count = state_.rebuild.x_at_rebuild.size();
+  const Vec3* const x_at_near = broad_phase_.positions_at_near().data();
+  const std::size_t near_count = broad_phase_.positions_at_near().size();
   const auto clump_count = static_cast<std::int64_t>(state_.clumps.size());
 #pragma omp parallel for schedule(static) num_threads(threads_for(pebble_count(), threads_)) \
     reduction(max : travel_sq, near_travel_sq)
   for (std::int64_t ci = 0; ci < clump_count; ++ci) {
     const Clump& c = state_.clumps[static_cast<std::size_t>(ci)];
     const Mat3 r = c.orientation.toRotationMatrix();
-    for (std::size_t k = 0; k < c.pebbles.size(); ++k) {
-      const std::size_t i = p.index_of(c.pebbles[k]);
-      const Vec3 arm = r * c.pebble_offsets[k];
-      p.x[i] = c.x + arm;
-      p.v[i] = c.v + c.w.cross(arm);
-      p.w[i] = c.w;
-      if (i < state_.rebuild.x_at_rebuild.size()) travel_sq = std::max(travel_sq, (p.x[i] - state_.rebuild.x_at_rebuild[i]).squaredNorm());
-      if (i < broad_phase_.positions_at_near().size()) near_travel_sq = std::max(near_travel_sq, (p.x[i] - broad_phase_.positions_at_near()[i]).squaredNorm());
+    const Vec3 centre = c.x, velocity = c.v, spin = c.w;
+    const ParticleId* const pebbles = c.pebbles.data();
+    const Vec3* const offsets = c.pebble_offsets.data();
+    const std::size_t count = c.pebbles.size();
+    for (std::size_t k = 0; k < count; ++k) {
+      const std::size_t i = p.index_of(pebbles[k]);
+      const Vec3 arm = r * offsets[k];
+      x[i] = centre + arm;
+      v[i] = velocity + spin.cross(arm);
+      w[i] = spin;
+      if (i < rebuild_count) travel_sq = std::max(travel_sq, (x[i] - x_at_rebuild[i]).squaredNorm());
+      if (i < near_count) near_travel_sq = std::max(near_travel_sq, (x[i] - x_at_near[i]).squaredNorm());
     }
   }
   state_.rebuild.max_travel_sq = travel_sq;
