@@ -120,6 +120,7 @@ DEM_AVX512 void leapfrog_avx512(ParticleStore& p, const LeapfrogStep& step, std:
                               _mm512_setr_pd(g.z(), g.x(), g.y(), g.z(), g.x(), g.y(), g.z(), g.x()),
                               _mm512_setr_pd(g.y(), g.z(), g.x(), g.y(), g.z(), g.x(), g.y(), g.z())};
   const __m512i spread_at[3] = {spread_index(0), spread_index(1), spread_index(2)};
+  const bool weightless = g.x() == 0.0 && g.y() == 0.0 && g.z() == 0.0;  // a free ball's 1/m is > 0 and finite
   // A moving damping frame: its velocity, gradient and spin in the same pattern as gravity.
   const DampingFrame* frame = step.frame;
   const Vec3 frame_v = frame ? frame->velocity : Vec3::Zero(), frame_g = frame ? frame->velocity_gradient : Vec3::Zero();
@@ -158,7 +159,8 @@ DEM_AVX512 void leapfrog_avx512(ParticleStore& p, const LeapfrogStep& step, std:
     __m512d x_new[3], w_new[3], move[3];
     for (int q = 0; q < 3; ++q) {
       const std::size_t c = o + 8 * static_cast<std::size_t>(q);
-      const __m512d weight = _mm512_div_pd(gravity[q], spread(inv_mass, spread_at[q]));
+      // Without gravity the weight g/(1/m) of a free ball is g's own signed zero: no division.
+      const __m512d weight = weightless ? gravity[q] : _mm512_div_pd(gravity[q], spread(inv_mass, spread_at[q]));
       const __m512d force = _mm512_add_pd(_mm512_loadu_pd(f + c), weight);
       const __m512d velocity = _mm512_loadu_pd(v + c);
       const __m512d spin = _mm512_loadu_pd(w + c);
