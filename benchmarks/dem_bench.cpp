@@ -26,7 +26,9 @@
 #include <iostream>
 #include <sstream>
 #include <string>
+#include <utility>
 
+#include <dem/core/block_isa.hpp>
 #include <dem/dem.hpp>
 
 #include "bench_system.hpp"
@@ -51,6 +53,23 @@ std::uint64_t state_digest(const World& world) {
   add(p.x), add(p.v), add(p.w), add(p.f), add(p.t);
   for (const Wall& w : world.walls()) add(std::vector<Vec3>{w.force, w.displacement});
   return h;
+}
+
+/// --isa: the contact blocks' and the leapfrog's instruction set for the whole run. One the
+/// processor lacks is an error, not a quiet fallback, so that a measurement is of what it says.
+void use_isa(const std::string& name) {
+  using detail::BlockIsa;
+  const std::pair<const char*, BlockIsa> known[] = {
+      {"avx512", BlockIsa::avx512}, {"avx2", BlockIsa::avx2}, {"scalar", BlockIsa::scalar}};
+  if (name == "best") return;
+  for (const auto& [known_name, isa] : known)
+    if (name == known_name) {
+      if (static_cast<int>(isa) > static_cast<int>(detail::detected_block_isa()))
+        throw InputError("--isa = " + name + ": this processor (or compiler) does not offer it");
+      detail::use_block_isa(isa);
+      return;
+    }
+  throw InputError("--isa = " + name + ": must be best, avx512, avx2 or scalar");
 }
 
 }  // namespace
@@ -89,7 +108,10 @@ int main(int argc, char** argv) {
       "and write it to --out")(
       "out", po::value(&generate.out), "packing file written by --generate")(
       "seed", po::value(&generate.seed)->default_value(1), "random seed of --generate")(
-      "digest", "print a hash of the final state (state_digest), the same bit for bit for any rank and thread count");
+      "digest", "print a hash of the final state (state_digest), the same bit for bit for any rank and thread count")(
+      "isa", po::value<std::string>()->default_value("best"),
+      "instruction set of the contact blocks and the leapfrog: best (the processor's), avx512, avx2 or scalar; "
+      "every one gives the same bits, so that their speeds can be compared on one machine");
   try {
     po::variables_map vm;
     po::store(po::parse_command_line(argc, argv, opts), vm);
@@ -99,6 +121,7 @@ int main(int argc, char** argv) {
     }
     po::notify(vm);
     if (threads < 1) throw InputError("--threads = " + std::to_string(threads) + ": must be >= 1");
+    use_isa(vm["isa"].as<std::string>());
     if (vm.count("generate")) {
       if (vm.count("packing")) throw InputError("--generate and --packing: give one of them");
       if (farm->processes() > 1) throw InputError("--generate runs in one process: run it without mpirun");
