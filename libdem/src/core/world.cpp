@@ -42,6 +42,7 @@ World::World(WorldSettings settings) {
 
 ParticleId World::add_ball(const BallSpec& spec) {
   state_.rebuild.need_rebuild = true;
+  pebble_layout_stale_ = true;
   return state_.particles.add(spec);
 }
 
@@ -69,6 +70,7 @@ ClumpId World::add_clump(const ClumpSpec& spec) {
     c.pebble_offsets.push_back(p.position - spec.centre_of_mass);
   }
   state_.clumps.push_back(std::move(c));
+  pebble_layout_stale_ = true;
   update_pebbles();
   state_.rebuild.need_rebuild = true;
   return cid;
@@ -185,6 +187,7 @@ void World::rebuild_now(bool resort) {
 
 void World::rebuild(bool resort) {
   broad_phase_.rebuild(state_, models_, threads_, resort);
+  pebble_layout_stale_ = pebble_layout_stale_ || resort;  // a re-sort moves particles in storage
   share_plan_stale_ = true;
   forget_domains();
   if (state_.settings.time_step <= 0.0 && state_.clock.dt > 0.0) update_time_step();
@@ -192,6 +195,7 @@ void World::rebuild(bool resort) {
 
 void World::restore(WorldState state) {
   state_ = std::move(state);
+  pebble_layout_stale_ = true;
   pair_records_current_ = true;  // a restart file holds the records of its last step
   share_plan_stale_ = true;  // the restored contact lists are not those the plan was made for
   forget_domains();

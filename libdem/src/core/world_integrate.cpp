@@ -20,6 +20,16 @@ namespace dem {
 using detail::damped;
 using detail::masked_add;
 
+namespace {
+
+/// Pebble i's torque about its clump's centre: its force's moment and its contact torque. One
+/// function for both ways integrate() sums them, so that both give the same bits.
+inline Vec3 pebble_torque(const ParticleStore& p, std::size_t i, const Clump& c) {
+  return (p.x[i] - c.x).cross(p.f[i]) + p.t[i];
+}
+
+}  // namespace
+
 void World::integrate() {
   ParticleStore& p = state_.particles;
   const double alpha = state_.settings.local_damping;
@@ -82,17 +92,29 @@ void World::integrate() {
 
   // Clumps: rigid bodies driven by the forces on their pebbles (docs/model.md 4). Each clump is
   // its own: they run in parallel (a ring stack has thousands of pebbles), each summing its
-  // pebbles in order.
+  // pebbles' shares in order. With several threads the shares are found first, each thread those
+  // of the pebbles stored in its range: a clump's pebbles lie all over the storage, in lines that
+  // either thread's pair loop wrote. One thread reads them where they are.
   const auto clump_count = static_cast<std::int64_t>(state_.clumps.size());
   std::int64_t bad_clump = clump_count;
-#pragma omp parallel for schedule(static) num_threads(threads_for(pebble_count(), threads_)) reduction(min : bad_clump)
+  const int clump_threads = threads_for(pebble_count(), threads_);
+  if (clump_count > 0) refresh_pebble_layout();
+  if (clump_count > 0 && clump_threads > 1) pebble_shares();
+#pragma omp parallel for schedule(static) num_threads(clump_threads) reduction(min : bad_clump)
   for (std::int64_t ci = 0; ci < clump_count; ++ci) {
     Clump& c = state_.clumps[static_cast<std::size_t>(ci)];
     Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
-    for (ParticleId pid : c.pebbles) {
-      const std::size_t i = p.index_of(pid);
-      force += p.f[i];
-      torque += (p.x[i] - c.x).cross(p.f[i]) + p.t[i];
+    if (clump_threads > 1) {
+      for (std::size_t k = pebble_begin_[static_cast<std::size_t>(ci)]; k < pebble_begin_[static_cast<std::size_t>(ci) + 1]; ++k) {
+        force += pebble_force_[k];
+        torque += pebble_torque_[k];
+      }
+    } else {
+      for (ParticleId pid : c.pebbles) {
+        const std::size_t i = p.index_of(pid);
+        force += p.f[i];
+        torque += pebble_torque(p, i, c);
+      }
     }
     c.force = force;
     c.torque = torque;
@@ -140,12 +162,72 @@ std::int64_t World::pebble_count() const {
   return count;
 }
 
+void World::refresh_pebble_layout() {
+  const std::size_t clump_count = state_.clumps.size();
+  // A clump added or a storage change not announced (ParticleStore edited by hand) shows as counts.
+  if (!pebble_layout_stale_ && pebble_begin_.size() == clump_count + 1 &&
+      pebble_begin_.back() == static_cast<std::size_t>(pebble_count()))
+    return;
+  const ParticleStore& p = state_.particles;
+  pebble_begin_.assign(1, 0);
+  pebbles_in_storage_.clear();
+  for (std::size_t ci = 0; ci < clump_count; ++ci) {
+    const Clump& c = state_.clumps[ci];
+    for (std::size_t k = 0; k < c.pebbles.size(); ++k)
+      pebbles_in_storage_.push_back({static_cast<std::int32_t>(p.index_of(c.pebbles[k])), static_cast<std::int32_t>(ci),
+                                     static_cast<std::int32_t>(k)});
+    pebble_begin_.push_back(pebbles_in_storage_.size());
+  }
+  std::sort(pebbles_in_storage_.begin(), pebbles_in_storage_.end(),
+            [](const PebbleSlot& a, const PebbleSlot& b) { return a.index < b.index; });
+  pebble_layout_stale_ = false;
+}
+
+// Each thread takes the pebbles stored in its range of the integration (integrate(): whole groups
+// of eight, by the threads' speeds), whose lines its pair loop share mostly wrote. A pebble's
+// terms and place depend on it and its clump only, so any split gives the same bits.
+std::pair<const World::PebbleSlot*, const World::PebbleSlot*> World::pebbles_of_this_thread() const {
+#if defined(_OPENMP)
+  const std::int64_t team = omp_get_num_threads(), me = omp_get_thread_num();
+#else
+  const std::int64_t team = 1, me = 0;
+#endif
+  const PebbleSlot* const slots = pebbles_in_storage_.data();
+  const PebbleSlot* const slots_end = slots + pebbles_in_storage_.size();
+  const auto n = static_cast<std::int64_t>(state_.particles.size());
+  const std::int64_t groups = (n + 7) / 8;
+  const std::vector<double>* fraction = team > 1 ? &thread_fractions_ : nullptr;
+  const std::int64_t begin = std::min(n, 8 * share_begin(groups, fraction, team, me));
+  const std::int64_t end = std::min(n, 8 * share_begin(groups, fraction, team, me + 1));
+  const auto by_index = [](const PebbleSlot& s, std::int64_t i) { return s.index < i; };
+  const PebbleSlot* const first = std::lower_bound(slots, slots_end, begin, by_index);
+  return {first, std::lower_bound(first, slots_end, end, by_index)};
+}
+
+void World::pebble_shares() {
+  const ParticleStore& p = state_.particles;
+  pebble_force_.resize(pebbles_in_storage_.size());
+  pebble_torque_.resize(pebbles_in_storage_.size());
+#pragma omp parallel num_threads(threads_for(static_cast<std::int64_t>(pebbles_in_storage_.size()), threads_))
+  {
+    const auto [first, last] = pebbles_of_this_thread();
+    for (const PebbleSlot* s = first; s != last; ++s) {
+      const auto i = static_cast<std::size_t>(s->index);
+      const std::size_t k = pebble_begin_[static_cast<std::size_t>(s->clump)] + static_cast<std::size_t>(s->place);
+      pebble_force_[k] = p.f[i];
+      pebble_torque_[k] = pebble_torque(p, i, state_.clumps[static_cast<std::size_t>(s->clump)]);
+    }
+  }
+}
+
 void World::update_pebbles() {
   ParticleStore& p = state_.particles;
+  refresh_pebble_layout();
+  clump_rotation_.resize(state_.clumps.size());
+  for (std::size_t ci = 0; ci < state_.clumps.size(); ++ci) clump_rotation_[ci] = state_.clumps[ci].orientation.toRotationMatrix();
   double travel_sq = state_.rebuild.max_travel_sq, near_travel_sq = broad_phase_.near_travel_sq();
-  // Plain pointers and the clump's motion in locals: a pebble's stores are doubles, which could
-  // be the clump's own or a vector's size for all the compiler knows, and it would reload each of
-  // them for every pebble (half of the loop's instructions).
+  // Plain pointers in locals: a pebble's stores are doubles, which could be a clump's own or a
+  // vector's size for all the compiler knows, and it would reload each of them for every pebble.
   Vec3* const x = p.x.data();
   Vec3* const v = p.v.data();
   Vec3* const w = p.w.data();
@@ -153,22 +235,19 @@ void World::update_pebbles() {
   const std::size_t rebuild_count = state_.rebuild.x_at_rebuild.size();
   const Vec3* const x_at_near = broad_phase_.positions_at_near().data();
   const std::size_t near_count = broad_phase_.positions_at_near().size();
-  const auto clump_count = static_cast<std::int64_t>(state_.clumps.size());
-#pragma omp parallel for schedule(static) num_threads(threads_for(pebble_count(), threads_)) \
+  const Clump* const clumps = state_.clumps.data();
+  const Mat3* const rotation = clump_rotation_.data();
+#pragma omp parallel num_threads(threads_for(static_cast<std::int64_t>(pebbles_in_storage_.size()), threads_)) \
     reduction(max : travel_sq, near_travel_sq)
-  for (std::int64_t ci = 0; ci < clump_count; ++ci) {
-    const Clump& c = state_.clumps[static_cast<std::size_t>(ci)];
-    const Mat3 r = c.orientation.toRotationMatrix();
-    const Vec3 centre = c.x, velocity = c.v, spin = c.w;
-    const ParticleId* const pebbles = c.pebbles.data();
-    const Vec3* const offsets = c.pebble_offsets.data();
-    const std::size_t count = c.pebbles.size();
-    for (std::size_t k = 0; k < count; ++k) {
-      const std::size_t i = p.index_of(pebbles[k]);
-      const Vec3 arm = r * offsets[k];
-      x[i] = centre + arm;
-      v[i] = velocity + spin.cross(arm);
-      w[i] = spin;
+  {
+    const auto [first, last] = pebbles_of_this_thread();
+    for (const PebbleSlot* s = first; s != last; ++s) {
+      const Clump& c = clumps[s->clump];
+      const auto i = static_cast<std::size_t>(s->index);
+      const Vec3 arm = rotation[s->clump] * c.pebble_offsets[static_cast<std::size_t>(s->place)];
+      x[i] = c.x + arm;
+      v[i] = c.v + c.w.cross(arm);
+      w[i] = c.w;
       if (i < rebuild_count) travel_sq = std::max(travel_sq, (x[i] - x_at_rebuild[i]).squaredNorm());
       if (i < near_count) near_travel_sq = std::max(near_travel_sq, (x[i] - x_at_near[i]).squaredNorm());
     }

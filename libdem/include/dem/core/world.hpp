@@ -224,8 +224,19 @@ class World {
   void compute_forces(bool record_pair_forces);
   void plan_shares();
   void integrate();
+  /// Places every pebble where its clump puts it, each thread the pebbles stored in its range of
+  /// the integration (the particles whose forces it mostly summed), after the clumps moved.
   void update_pebbles();
   std::int64_t pebble_count() const;
+  /// Remakes the pebble layout below if the storage changed since it was made.
+  void refresh_pebble_layout();
+  /// Each pebble's force and torque about its clump's centre, in the clumps' order (pebble_force_,
+  /// pebble_torque_), for the clumps to add up in that order (after refresh_pebble_layout).
+  void pebble_shares();
+  struct PebbleSlot;
+  /// The pebbles (in pebbles_in_storage_) stored in the calling thread's range of the integration,
+  /// inside a parallel region (all of them outside one).
+  std::pair<const PebbleSlot*, const PebbleSlot*> pebbles_of_this_thread() const;
   /// The worst overlap of a step, and the contact set it is in.
   struct WorstOverlap {
     OverlapMonitor monitor;
@@ -288,6 +299,21 @@ class World {
   std::vector<double> thread_fractions_;
   ContactRecords contact_records_ = ContactRecords::WhenRead;
   bool pair_records_current_ = true;  // the last step recorded the pair contacts' forces
+  // Where the pebbles are stored, so that a step looks up no ids: the pebbles in storage order,
+  // each with its clump and place in it, and clump c's pebbles at [pebble_begin_[c],
+  // pebble_begin_[c + 1]) of the per-pebble arrays below, in the clump's order. Stale after
+  // anything that moves particles in storage or adds some (a rebuild's re-sort, a new ball or
+  // clump, a restored state).
+  struct PebbleSlot {
+    std::int32_t index;  // in storage
+    std::int32_t clump;
+    std::int32_t place;  // in the clump's pebbles and pebble_offsets
+  };
+  std::vector<PebbleSlot> pebbles_in_storage_;
+  std::vector<std::size_t> pebble_begin_;
+  std::vector<Vec3> pebble_force_, pebble_torque_;  // N, N m: pebble_shares()
+  std::vector<Mat3> clump_rotation_;  // each clump's orientation as a matrix, for placing pebbles
+  bool pebble_layout_stale_ = true;
 };
 
 }  // namespace dem
