@@ -223,8 +223,6 @@ void World::pebble_shares() {
 void World::update_pebbles() {
   ParticleStore& p = state_.particles;
   refresh_pebble_layout();
-  clump_rotation_.resize(state_.clumps.size());
-  for (std::size_t ci = 0; ci < state_.clumps.size(); ++ci) clump_rotation_[ci] = state_.clumps[ci].orientation.toRotationMatrix();
   double travel_sq = state_.rebuild.max_travel_sq, near_travel_sq = broad_phase_.near_travel_sq();
   // Plain pointers in locals: a pebble's stores are doubles, which could be a clump's own or a
   // vector's size for all the compiler knows, and it would reload each of them for every pebble.
@@ -235,21 +233,39 @@ void World::update_pebbles() {
   const std::size_t rebuild_count = state_.rebuild.x_at_rebuild.size();
   const Vec3* const x_at_near = broad_phase_.positions_at_near().data();
   const std::size_t near_count = broad_phase_.positions_at_near().size();
-  const Clump* const clumps = state_.clumps.data();
-  const Mat3* const rotation = clump_rotation_.data();
-#pragma omp parallel num_threads(threads_for(static_cast<std::int64_t>(pebbles_in_storage_.size()), threads_)) \
-    reduction(max : travel_sq, near_travel_sq)
-  {
-    const auto [first, last] = pebbles_of_this_thread();
-    for (const PebbleSlot* s = first; s != last; ++s) {
-      const Clump& c = clumps[s->clump];
-      const auto i = static_cast<std::size_t>(s->index);
-      const Vec3 arm = rotation[s->clump] * c.pebble_offsets[static_cast<std::size_t>(s->place)];
-      x[i] = c.x + arm;
-      v[i] = c.v + c.w.cross(arm);
-      w[i] = c.w;
-      if (i < rebuild_count) travel_sq = std::max(travel_sq, (x[i] - x_at_rebuild[i]).squaredNorm());
-      if (i < near_count) near_travel_sq = std::max(near_travel_sq, (x[i] - x_at_near[i]).squaredNorm());
+  // Pebble i at `arm` from its clump's centre, which moves at `velocity` and spins at `spin`.
+  const auto place = [=](std::size_t i, const Vec3& centre, const Vec3& velocity, const Vec3& spin, const Vec3& arm,
+                         double& moved_sq, double& moved_near_sq) {
+    x[i] = centre + arm;
+    v[i] = velocity + spin.cross(arm);
+    w[i] = spin;
+    if (i < rebuild_count) moved_sq = std::max(moved_sq, (x[i] - x_at_rebuild[i]).squaredNorm());
+    if (i < near_count) moved_near_sq = std::max(moved_near_sq, (x[i] - x_at_near[i]).squaredNorm());
+  };
+  const int threads = threads_for(static_cast<std::int64_t>(pebbles_in_storage_.size()), threads_);
+  if (threads == 1) {
+    // Clump by clump, each clump's motion held in registers (a pebble's place does not depend on
+    // the order: the same bits as below).
+    for (const Clump& c : state_.clumps) {
+      const Mat3 r = c.orientation.toRotationMatrix();
+      const Vec3 centre = c.x, velocity = c.v, spin = c.w;
+      for (std::size_t k = 0; k < c.pebbles.size(); ++k)
+        place(p.index_of(c.pebbles[k]), centre, velocity, spin, r * c.pebble_offsets[k], travel_sq, near_travel_sq);
+    }
+  } else {
+    clump_rotation_.resize(state_.clumps.size());
+    for (std::size_t ci = 0; ci < state_.clumps.size(); ++ci)
+      clump_rotation_[ci] = state_.clumps[ci].orientation.toRotationMatrix();
+    const Clump* const clumps = state_.clumps.data();
+    const Mat3* const rotation = clump_rotation_.data();
+#pragma omp parallel num_threads(threads) reduction(max : travel_sq, near_travel_sq)
+    {
+      const auto [first, last] = pebbles_of_this_thread();
+      for (const PebbleSlot* s = first; s != last; ++s) {
+        const Clump& c = clumps[s->clump];
+        place(static_cast<std::size_t>(s->index), c.x, c.v, c.w,
+              rotation[s->clump] * c.pebble_offsets[static_cast<std::size_t>(s->place)], travel_sq, near_travel_sq);
+      }
     }
   }
   state_.rebuild.max_travel_sq = travel_sq;
