@@ -98,8 +98,10 @@ void World::integrate() {
   const auto clump_count = static_cast<std::int64_t>(state_.clumps.size());
   std::int64_t bad_clump = clump_count;
   const int clump_threads = threads_for(pebble_count(), threads_);
-  if (clump_count > 0) refresh_pebble_layout();
-  if (clump_count > 0 && clump_threads > 1) pebble_shares();
+  if (clump_count > 0 && clump_threads > 1) {
+    refresh_pebble_layout();
+    pebble_shares();
+  }
 #pragma omp parallel for schedule(static) num_threads(clump_threads) reduction(min : bad_clump)
   for (std::int64_t ci = 0; ci < clump_count; ++ci) {
     Clump& c = state_.clumps[static_cast<std::size_t>(ci)];
@@ -222,7 +224,6 @@ void World::pebble_shares() {
 
 void World::update_pebbles() {
   ParticleStore& p = state_.particles;
-  refresh_pebble_layout();
   double travel_sq = state_.rebuild.max_travel_sq, near_travel_sq = broad_phase_.near_travel_sq();
   // Plain pointers in locals: a pebble's stores are doubles, which could be a clump's own or a
   // vector's size for all the compiler knows, and it would reload each of them for every pebble.
@@ -242,7 +243,7 @@ void World::update_pebbles() {
     if (i < rebuild_count) moved_sq = std::max(moved_sq, (x[i] - x_at_rebuild[i]).squaredNorm());
     if (i < near_count) moved_near_sq = std::max(moved_near_sq, (x[i] - x_at_near[i]).squaredNorm());
   };
-  const int threads = threads_for(static_cast<std::int64_t>(pebbles_in_storage_.size()), threads_);
+  const int threads = threads_for(pebble_count(), threads_);
   if (threads == 1) {
     // Clump by clump, each clump's motion held in registers (a pebble's place does not depend on
     // the order: the same bits as below).
@@ -253,6 +254,7 @@ void World::update_pebbles() {
         place(p.index_of(c.pebbles[k]), centre, velocity, spin, r * c.pebble_offsets[k], travel_sq, near_travel_sq);
     }
   } else {
+    refresh_pebble_layout();
     clump_rotation_.resize(state_.clumps.size());
     for (std::size_t ci = 0; ci < state_.clumps.size(); ++ci)
       clump_rotation_[ci] = state_.clumps[ci].orientation.toRotationMatrix();
