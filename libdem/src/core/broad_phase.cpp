@@ -21,6 +21,32 @@ Key pair_key(ParticleId a, ParticleId b) {
   return (static_cast<Key>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
 }
 
+/// Runs `part(t, begin, end)` for `team` contiguous ranges of [0, count), one per thread (a team of
+/// threads_for(count, threads), so that a small loop runs on one). A caller that joins the parts'
+/// outputs in range order gets the serial result for any team.
+template <class Part>
+void in_ranges(std::int64_t count, int team, const Part& part) {
+#pragma omp parallel for schedule(static) num_threads(team)
+  for (int t = 0; t < team; ++t) part(t, count * t / team, count * (t + 1) / team);
+}
+
+/// Appends the parts' vectors `member` in order (the one part's is moved).
+template <class Part, class T>
+void join(std::vector<Part>& parts, std::vector<T> Part::*member, std::vector<T>& out) {
+  if (parts.size() == 1) {
+    out = std::move(parts.front().*member);
+    return;
+  }
+  std::size_t total = 0;
+  for (const Part& part : parts) total += (part.*member).size();
+  out.clear();
+  out.reserve(total);
+  for (Part& part : parts) {
+    out.insert(out.end(), (part.*member).begin(), (part.*member).end());
+    std::vector<T>().swap(part.*member);
+  }
+}
+
 /// The contacts touching in the last step, found again by their particles after a re-sort: each
 /// is filed under the lower of its two storage indices, with the other one. The pair search emits
 /// its candidates in order of that lower index, so the lookups walk these lists front to back
@@ -29,27 +55,43 @@ class TouchingPairs {
  public:
   /// Notes the touching contacts of `c` by their particles' stable ids (before a re-sort). By
   /// `touching`, which every step writes, not by the force records, which only some steps do.
-  TouchingPairs(const PairContacts& c, const ParticleStore& p) {
-    for (std::size_t k = 0; k < c.touching.size() && k < c.size(); ++k)
-      if (c.touching[k] != 0) {
-        id_first_.push_back(p.id[static_cast<std::size_t>(c.first[k])]);
-        id_second_.push_back(p.id[static_cast<std::size_t>(c.second[k])]);
-        contact_.push_back(static_cast<std::int64_t>(k));
-      }
+  TouchingPairs(const PairContacts& c, const ParticleStore& p, int threads) {
+    struct Part {
+      std::vector<ParticleId> id_first, id_second;
+      std::vector<std::int64_t> contact;
+    };
+    const auto count = static_cast<std::int64_t>(std::min(c.touching.size(), c.size()));
+    const int team = threads_for(count, threads);
+    std::vector<Part> parts(static_cast<std::size_t>(team));
+    in_ranges(count, team, [&](int t, std::int64_t begin, std::int64_t end) {
+      Part& out = parts[static_cast<std::size_t>(t)];
+      for (std::int64_t k = begin; k < end; ++k)
+        if (c.touching[static_cast<std::size_t>(k)] != 0) {
+          out.id_first.push_back(p.id[static_cast<std::size_t>(c.first[static_cast<std::size_t>(k)])]);
+          out.id_second.push_back(p.id[static_cast<std::size_t>(c.second[static_cast<std::size_t>(k)])]);
+          out.contact.push_back(k);
+        }
+    });
+    join(parts, &Part::id_first, id_first_);
+    join(parts, &Part::id_second, id_second_);
+    join(parts, &Part::contact, contact_);
   }
 
   /// Files them by the particles' storage indices now (after any re-sort).
-  void index(const ParticleStore& p) {
+  void index(const ParticleStore& p, int threads) {
     const std::size_t n = contact_.size();
     std::vector<std::int32_t> lower(n), upper(n);
+    const auto count = static_cast<std::int64_t>(n);
+    in_ranges(count, threads_for(count, threads), [&](int, std::int64_t begin, std::int64_t end) {
+      for (auto m = static_cast<std::size_t>(begin); m < static_cast<std::size_t>(end); ++m) {
+        const auto a = static_cast<std::int32_t>(p.index_of(id_first_[m]));
+        const auto b = static_cast<std::int32_t>(p.index_of(id_second_[m]));
+        lower[m] = std::min(a, b);
+        upper[m] = std::max(a, b);
+      }
+    });
     offsets_.assign(p.size() + 1, 0);
-    for (std::size_t m = 0; m < n; ++m) {
-      const auto a = static_cast<std::int32_t>(p.index_of(id_first_[m]));
-      const auto b = static_cast<std::int32_t>(p.index_of(id_second_[m]));
-      lower[m] = std::min(a, b);
-      upper[m] = std::max(a, b);
-      ++offsets_[static_cast<std::size_t>(lower[m]) + 1];
-    }
+    for (std::size_t m = 0; m < n; ++m) ++offsets_[static_cast<std::size_t>(lower[m]) + 1];
     for (std::size_t i = 0; i < p.size(); ++i) offsets_[i + 1] += offsets_[i];
     upper_.resize(n);
     contact_by_lower_.resize(n);
@@ -79,9 +121,13 @@ class TouchingPairs {
 };
 
 /// `touching` of a new pair list: the contacts carried over are those that touched (TouchingPairs).
-void mark_carried(PairContacts& fresh, const std::vector<std::int64_t>& source_of) {
-  fresh.touching.assign(source_of.size(), 0);
-  for (std::size_t k = 0; k < source_of.size(); ++k) fresh.touching[k] = source_of[k] >= 0 ? 1 : 0;
+void mark_carried(PairContacts& fresh, const std::vector<std::int64_t>& source_of, int threads) {
+  const auto count = static_cast<std::int64_t>(source_of.size());
+  fresh.touching.resize(source_of.size());
+  in_ranges(count, threads_for(count, threads), [&](int, std::int64_t begin, std::int64_t end) {
+    for (auto k = static_cast<std::size_t>(begin); k < static_cast<std::size_t>(end); ++k)
+      fresh.touching[k] = source_of[k] >= 0 ? 1 : 0;
+  });
 }
 
 /// The old index of `key` among the sorted (key, old index) pairs of the ball-facet contacts, or -1.
@@ -93,11 +139,14 @@ std::int64_t lookup(const std::vector<std::pair<Key, std::int64_t>>& keys, Key k
 /// Moves the history and last normal forces of `old` onto the new candidate list.
 template <class Contacts>
 void carry_history(const ContactModel* model, Contacts& fresh, const Contacts& old,
-                   const std::vector<std::int64_t>& source_of) {
-  fresh.normal_force.assign(source_of.size(), 0.0);
-  for (std::size_t k = 0; k < source_of.size(); ++k)
-    if (source_of[k] >= 0) fresh.normal_force[k] = old.normal_force[static_cast<std::size_t>(source_of[k])];
-  if (model != nullptr) model->remap_states(old.state, source_of, fresh.state);
+                   const std::vector<std::int64_t>& source_of, int threads) {
+  const auto count = static_cast<std::int64_t>(source_of.size());
+  fresh.normal_force.resize(source_of.size());
+  in_ranges(count, threads_for(count, threads), [&](int, std::int64_t begin, std::int64_t end) {
+    for (auto k = static_cast<std::size_t>(begin); k < static_cast<std::size_t>(end); ++k)
+      fresh.normal_force[k] = source_of[k] >= 0 ? old.normal_force[static_cast<std::size_t>(source_of[k])] : 0.0;
+  });
+  if (model != nullptr) model->remap_states(old.state, source_of, fresh.state, threads);
 }
 
 /// The touching contacts of `c` as sorted (ball id, wall) keys with their index.
@@ -113,7 +162,7 @@ std::vector<std::pair<Key, std::int64_t>> touching_wall_keys(const WallContacts&
 /// Ball-surface candidates: every ball within its radius plus the skin of an analytic wall's
 /// surface, in (ball, wall) order. One formula per ball and surface wall, as LAMMPS's wall/gran.
 void find_surface_contacts(WorldState& state, const std::vector<std::pair<Key, std::int64_t>>& old_keys,
-                           const ContactModel* model, double skin) {
+                           const ContactModel* model, double skin, int threads) {
   const ParticleStore& p = state.particles;
   std::vector<std::size_t> surface_walls;
   for (std::size_t w = 0; w < state.walls.size(); ++w)
@@ -121,38 +170,72 @@ void find_surface_contacts(WorldState& state, const std::vector<std::pair<Key, s
   WallContacts fresh;
   fresh.surfaces = true;
   std::vector<std::int64_t> source;
-  if (!surface_walls.empty())
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      if (p.is_pebble(i)) continue;
-      const double reach = p.radius[i] + skin;
-      for (const std::size_t w : surface_walls)
-        if ((state.walls[w].surface.closest_point(p.x[i]) - p.x[i]).squaredNorm() < reach * reach) {
-          fresh.ball.push_back(static_cast<std::int32_t>(i));
-          fresh.wall.push_back(static_cast<std::int32_t>(w));
-          source.push_back(lookup(old_keys, pair_key(p.id[i], static_cast<std::int32_t>(w))));
-        }
-    }
+  if (!surface_walls.empty()) {
+    struct Part {
+      std::vector<std::int32_t> ball, wall;
+      std::vector<std::int64_t> source;
+    };
+    const auto count = static_cast<std::int64_t>(p.size());
+    const int team = threads_for(count, threads);
+    std::vector<Part> parts(static_cast<std::size_t>(team));
+    in_ranges(count, team, [&](int t, std::int64_t begin, std::int64_t end) {
+      Part& out = parts[static_cast<std::size_t>(t)];
+      for (auto i = static_cast<std::size_t>(begin); i < static_cast<std::size_t>(end); ++i) {
+        if (p.is_pebble(i)) continue;
+        const double reach = p.radius[i] + skin;
+        for (const std::size_t w : surface_walls)
+          if ((state.walls[w].surface.closest_point(p.x[i]) - p.x[i]).squaredNorm() < reach * reach) {
+            out.ball.push_back(static_cast<std::int32_t>(i));
+            out.wall.push_back(static_cast<std::int32_t>(w));
+            out.source.push_back(lookup(old_keys, pair_key(p.id[i], static_cast<std::int32_t>(w))));
+          }
+      }
+    });
+    join(parts, &Part::ball, fresh.ball);
+    join(parts, &Part::wall, fresh.wall);
+    join(parts, &Part::source, source);
+  }
   WallContacts& now = state.contacts.ball_surface;
-  carry_history(model, fresh, now, source);
+  carry_history(model, fresh, now, source, threads);
   now = std::move(fresh);
 }
 
-/// CSR incidence: for each particle, entries (contact * 2 + side) in contact order.
-void build_incidence(PairContacts& c, std::size_t particles) {
+/// CSR incidence: for each particle, entries (contact * 2 + side) in contact order. Each thread
+/// counts and then files a contiguous range of the contacts, after the earlier ranges' entries of
+/// each particle: the lists are the same for any thread count.
+void build_incidence(PairContacts& c, std::size_t particles, int threads) {
   std::vector<std::int32_t>& offsets = c.incidence_offsets;
   std::vector<std::int32_t>& entries = c.incidence_entries;
+  const auto count = static_cast<std::int64_t>(c.size());
+  const int team = threads_for(count, threads);
+  // per range: how many entries each particle has in it, then where its next entry goes
+  std::vector<std::vector<std::int32_t>> slot(static_cast<std::size_t>(team));
+  in_ranges(count, team, [&](int t, std::int64_t begin, std::int64_t end) {
+    std::vector<std::int32_t>& mine = slot[static_cast<std::size_t>(t)];
+    mine.assign(particles, 0);
+    for (auto k = static_cast<std::size_t>(begin); k < static_cast<std::size_t>(end); ++k) {
+      ++mine[static_cast<std::size_t>(c.first[k])];
+      ++mine[static_cast<std::size_t>(c.second[k])];
+    }
+  });
   offsets.assign(particles + 1, 0);
-  for (std::size_t k = 0; k < c.size(); ++k) {
-    ++offsets[static_cast<std::size_t>(c.first[k]) + 1];
-    ++offsets[static_cast<std::size_t>(c.second[k]) + 1];
+  for (std::size_t i = 0; i < particles; ++i) {
+    std::int32_t at = offsets[i];
+    for (auto& mine : slot) {
+      const std::int32_t n = mine[i];
+      mine[i] = at;
+      at += n;
+    }
+    offsets[i + 1] = at;
   }
-  for (std::size_t i = 0; i < particles; ++i) offsets[i + 1] += offsets[i];
   entries.resize(2 * c.size());
-  std::vector<std::int32_t> fill(offsets.begin(), offsets.end() - 1);
-  for (std::size_t k = 0; k < c.size(); ++k) {
-    entries[static_cast<std::size_t>(fill[static_cast<std::size_t>(c.first[k])]++)] = static_cast<std::int32_t>(2 * k);
-    entries[static_cast<std::size_t>(fill[static_cast<std::size_t>(c.second[k])]++)] = static_cast<std::int32_t>(2 * k + 1);
-  }
+  in_ranges(count, team, [&](int t, std::int64_t begin, std::int64_t end) {
+    std::vector<std::int32_t>& fill = slot[static_cast<std::size_t>(t)];
+    for (auto k = static_cast<std::size_t>(begin); k < static_cast<std::size_t>(end); ++k) {
+      entries[static_cast<std::size_t>(fill[static_cast<std::size_t>(c.first[k])]++)] = static_cast<std::int32_t>(2 * k);
+      entries[static_cast<std::size_t>(fill[static_cast<std::size_t>(c.second[k])]++)] = static_cast<std::int32_t>(2 * k + 1);
+    }
+  });
 }
 
 }  // namespace
@@ -185,63 +268,83 @@ void BroadPhase::rebuild(WorldState& state, const ContactModelTable& models, int
   record.skin = skin;
 
   // History of the last step, keyed by stable ids (storage indices change when re-sorting).
-  TouchingPairs old_bb(ball_ball, p), old_bp(ball_pebble, p);
+  TouchingPairs old_bb(ball_ball, p, threads), old_bp(ball_pebble, p, threads);
   const auto old_wall_keys = touching_wall_keys(ball_facet, p);
   const auto old_surface_keys = touching_wall_keys(state.contacts.ball_surface, p);
 
+  // Cells of at least the largest diameter plus the skin. After a re-sort the particles are in
+  // the grid's own order: the grid of the new storage follows without binning them again.
+  double max_radius = 0.0;
+  for (double r : p.radius) max_radius = std::max(max_radius, r);
+  grid_.build(p.x, 2.0 * max_radius + skin, 0.0, threads);
   if (resort && p.size() > 1) {
-    double max_radius = 0.0;
-    for (double r : p.radius) max_radius = std::max(max_radius, r);
-    grid_.build(p.x, 2.0 * max_radius + skin);
-    p.permute(grid_.cell_order());
+    p.permute(grid_.cell_order(), threads);
+    grid_.renumber_in_cell_order();
   }
-  old_bb.index(p);
-  old_bp.index(p);
+  old_bb.index(p, threads);
+  old_bp.index(p, threads);
 
-  // Candidate pairs, split by contact type; piece 1 is always a ball.
+  // Candidate pairs, split by contact type; piece 1 is always a ball. Each thread splits a
+  // contiguous range of the candidates, and the ranges are joined in order.
   std::vector<std::int32_t> first, second;
-  find_pairs(p.x, p.radius, skin, threads, grid_, first, second);
+  find_pairs_in(grid_, p.x, p.radius, skin, threads, first, second);
+  struct Split {
+    std::vector<std::int32_t> bb_first, bb_second, bp_first, bp_second;
+    std::vector<std::int64_t> bb_source, bp_source;
+  };
+  const auto candidates = static_cast<std::int64_t>(first.size());
+  const int team = threads_for(candidates, threads);
+  std::vector<Split> parts(static_cast<std::size_t>(team));
+  const bool pebble_pebble = state.settings.pebble_pebble_contacts;
+  in_ranges(candidates, team, [&](int t, std::int64_t begin, std::int64_t end) {
+    Split& out = parts[static_cast<std::size_t>(t)];
+    for (auto k = static_cast<std::size_t>(begin); k < static_cast<std::size_t>(end); ++k) {
+      std::int32_t a = first[k], b = second[k];  // a < b, in order of a
+      const bool a_pebble = p.is_pebble(static_cast<std::size_t>(a));
+      const bool b_pebble = p.is_pebble(static_cast<std::size_t>(b));
+      if (!a_pebble && !b_pebble) {
+        // Orient by stable id, so that re-sorting never flips a contact (its history is directional).
+        if (p.id[static_cast<std::size_t>(a)] > p.id[static_cast<std::size_t>(b)]) std::swap(a, b);
+        out.bb_source.push_back(old_bb.find(first[k], second[k]));
+        out.bb_first.push_back(a);
+        out.bb_second.push_back(b);
+        continue;
+      }
+      if (a_pebble && b_pebble) {
+        if (!pebble_pebble || p.clump[static_cast<std::size_t>(a)] == p.clump[static_cast<std::size_t>(b)]) continue;
+        if (p.id[static_cast<std::size_t>(a)] > p.id[static_cast<std::size_t>(b)]) std::swap(a, b);
+      } else if (a_pebble) {
+        std::swap(a, b);
+      }
+      out.bp_source.push_back(old_bp.find(first[k], second[k]));
+      out.bp_first.push_back(a);
+      out.bp_second.push_back(b);
+    }
+  });
+  std::vector<std::int32_t>().swap(first);  // split: free them before the histories are copied
+  std::vector<std::int32_t>().swap(second);
   PairContacts bb, bp;
   bb.kind = ContactKind::BallBall;
   bp.kind = ContactKind::BallPebble;
   std::vector<std::int64_t> bb_source, bp_source;
-  for (std::size_t k = 0; k < first.size(); ++k) {
-    std::int32_t a = first[k], b = second[k];  // a < b, in order of a
-    const bool a_pebble = p.is_pebble(static_cast<std::size_t>(a));
-    const bool b_pebble = p.is_pebble(static_cast<std::size_t>(b));
-    if (!a_pebble && !b_pebble) {
-      // Orient by stable id, so that re-sorting never flips a contact (its history is directional).
-      if (p.id[static_cast<std::size_t>(a)] > p.id[static_cast<std::size_t>(b)]) std::swap(a, b);
-      bb_source.push_back(old_bb.find(first[k], second[k]));
-      bb.first.push_back(a);
-      bb.second.push_back(b);
-      continue;
-    }
-    if (a_pebble && b_pebble) {
-      if (!state.settings.pebble_pebble_contacts || p.clump[static_cast<std::size_t>(a)] == p.clump[static_cast<std::size_t>(b)])
-        continue;
-      if (p.id[static_cast<std::size_t>(a)] > p.id[static_cast<std::size_t>(b)]) std::swap(a, b);
-    } else if (a_pebble) {
-      std::swap(a, b);
-    }
-    bp_source.push_back(old_bp.find(first[k], second[k]));
-    bp.first.push_back(a);
-    bp.second.push_back(b);
-  }
-  std::vector<std::int32_t>().swap(first);  // split: free them before the histories are copied
-  std::vector<std::int32_t>().swap(second);
+  join(parts, &Split::bb_first, bb.first);
+  join(parts, &Split::bb_second, bb.second);
+  join(parts, &Split::bb_source, bb_source);
+  join(parts, &Split::bp_first, bp.first);
+  join(parts, &Split::bp_second, bp.second);
+  join(parts, &Split::bp_source, bp_source);
   const auto model = [&models](ContactKind kind) { return models[static_cast<std::size_t>(kind)].get(); };
-  carry_history(model(ContactKind::BallBall), bb, ball_ball, bb_source);
-  carry_history(model(ContactKind::BallPebble), bp, ball_pebble, bp_source);
-  mark_carried(bb, bb_source);
-  mark_carried(bp, bp_source);
+  carry_history(model(ContactKind::BallBall), bb, ball_ball, bb_source, threads);
+  carry_history(model(ContactKind::BallPebble), bp, ball_pebble, bp_source, threads);
+  mark_carried(bb, bb_source, threads);
+  mark_carried(bp, bp_source, threads);
   // The incidence lists are remade below: into the old ones' memory, not freshly touched pages.
   bb.incidence_offsets = std::move(ball_ball.incidence_offsets), bb.incidence_entries = std::move(ball_ball.incidence_entries);
   bp.incidence_offsets = std::move(ball_pebble.incidence_offsets), bp.incidence_entries = std::move(ball_pebble.incidence_entries);
   ball_ball = std::move(bb);
   ball_pebble = std::move(bp);
-  build_incidence(ball_ball, p.size());
-  build_incidence(ball_pebble, p.size());
+  build_incidence(ball_ball, p.size(), threads);
+  build_incidence(ball_pebble, p.size(), threads);
 
   // Ball-facet candidates: balls within (radius + skin) of a triangle, grouped per (ball, wall).
   struct Candidate {
@@ -292,9 +395,9 @@ void BroadPhase::rebuild(WorldState& state, const ContactModelTable& models, int
     wc.triangles.push_back(found[k].triangle);
   }
   if (!wc.ball.empty()) wc.triangle_end.push_back(static_cast<std::int32_t>(wc.triangles.size()));
-  carry_history(model(ContactKind::BallFacet), wc, ball_facet, wall_source);
+  carry_history(model(ContactKind::BallFacet), wc, ball_facet, wall_source, threads);
   ball_facet = std::move(wc);
-  find_surface_contacts(state, old_surface_keys, model(ContactKind::BallFacet), skin);
+  find_surface_contacts(state, old_surface_keys, model(ContactKind::BallFacet), skin, threads);
 
   record.x_at_rebuild = p.x;
   record.max_travel_sq = 0.0;

@@ -3,14 +3,20 @@
 #include <string>
 
 #include <dem/core/errors.hpp>
+#include <dem/core/parallel.hpp>
 
 namespace dem {
 
 namespace {
 template <class T>
-void apply_order(std::vector<T>& data, const std::vector<std::int32_t>& order) {
+void apply_order(std::vector<T>& data, const std::vector<std::int32_t>& order, int threads) {
   std::vector<T> sorted(data.size());
-  for (std::size_t k = 0; k < order.size(); ++k) sorted[k] = data[static_cast<std::size_t>(order[k])];
+  const auto n = static_cast<std::int64_t>(order.size());
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (std::int64_t k = 0; k < n; ++k) {
+    const auto at = static_cast<std::size_t>(k);
+    sorted[at] = data[static_cast<std::size_t>(order[at])];
+  }
   data.swap(sorted);
 }
 }  // namespace
@@ -59,21 +65,25 @@ void ParticleStore::restore_index() {
   }
 }
 
-void ParticleStore::permute(const std::vector<std::int32_t>& order) {
-  apply_order(x, order);
-  apply_order(v, order);
-  apply_order(w, order);
-  apply_order(f, order);
-  apply_order(t, order);
-  apply_order(radius, order);
-  apply_order(mass, order);
-  apply_order(inv_mass, order);
-  apply_order(inv_inertia, order);
-  apply_order(id, order);
-  apply_order(group, order);
-  apply_order(clump, order);
-  apply_order(fixed, order);
-  for (std::size_t k = 0; k < id.size(); ++k) index_of_id_[static_cast<std::size_t>(id[k])] = static_cast<std::int32_t>(k);
+void ParticleStore::permute(const std::vector<std::int32_t>& order, int threads) {
+  const int team = threads_for(static_cast<std::int64_t>(order.size()), threads);
+  apply_order(x, order, team);
+  apply_order(v, order, team);
+  apply_order(w, order, team);
+  apply_order(f, order, team);
+  apply_order(t, order, team);
+  apply_order(radius, order, team);
+  apply_order(mass, order, team);
+  apply_order(inv_mass, order, team);
+  apply_order(inv_inertia, order, team);
+  apply_order(id, order, team);
+  apply_order(group, order, team);
+  apply_order(clump, order, team);
+  apply_order(fixed, order, team);
+  const auto n = static_cast<std::int64_t>(id.size());
+#pragma omp parallel for schedule(static) num_threads(team)
+  for (std::int64_t k = 0; k < n; ++k)  // ids are unique: each thread writes its own entries
+    index_of_id_[static_cast<std::size_t>(id[static_cast<std::size_t>(k)])] = static_cast<std::int32_t>(k);
 }
 
 }  // namespace dem

@@ -9,7 +9,7 @@
 
 namespace dem {
 
-void CellGrid::build(const std::vector<Vec3>& points, double min_cell_size, double padding) {
+void CellGrid::build(const std::vector<Vec3>& points, double min_cell_size, double padding, int threads) {
   Vec3 lo = Vec3::Constant(0.0), hi = Vec3::Constant(0.0);
   if (!points.empty()) {
     lo = hi = points[0];
@@ -38,16 +38,22 @@ void CellGrid::build(const std::vector<Vec3>& points, double min_cell_size, doub
   const std::int64_t cells = static_cast<std::int64_t>(dims_[0]) * dims_[1] * dims_[2];
   start_.assign(static_cast<std::size_t>(cells) + 1, 0);
   std::vector<std::int64_t> cell_index(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const auto c = cell_of(points[i]);
-    cell_index[i] = linear(c[0], c[1], c[2]);
-    ++start_[static_cast<std::size_t>(cell_index[i]) + 1];
+  const auto n = static_cast<std::int64_t>(points.size());
+#pragma omp parallel for schedule(static) num_threads(threads_for(n, std::max(1, threads)))
+  for (std::int64_t i = 0; i < n; ++i) {
+    const auto c = cell_of(points[static_cast<std::size_t>(i)]);
+    cell_index[static_cast<std::size_t>(i)] = linear(c[0], c[1], c[2]);
   }
+  for (std::size_t i = 0; i < points.size(); ++i) ++start_[static_cast<std::size_t>(cell_index[i]) + 1];
   for (std::int64_t c = 0; c < cells; ++c) start_[static_cast<std::size_t>(c) + 1] += start_[static_cast<std::size_t>(c)];
   order_.resize(points.size());
   std::vector<std::int32_t> fill(start_.begin(), start_.end() - 1);
   for (std::size_t i = 0; i < points.size(); ++i)
     order_[static_cast<std::size_t>(fill[static_cast<std::size_t>(cell_index[i])]++)] = static_cast<std::int32_t>(i);
+}
+
+void CellGrid::renumber_in_cell_order() {
+  for (std::size_t k = 0; k < order_.size(); ++k) order_[k] = static_cast<std::int32_t>(k);
 }
 
 std::array<int, 3> CellGrid::cell_of(const Vec3& point) const {
@@ -62,7 +68,12 @@ std::array<int, 3> CellGrid::cell_of(const Vec3& point) const {
 void find_pairs(const std::vector<Vec3>& x, const std::vector<double>& radius, double skin, int threads,
                 CellGrid& grid, std::vector<std::int32_t>& first, std::vector<std::int32_t>& second) {
   const double max_radius = radius.empty() ? 0.0 : *std::max_element(radius.begin(), radius.end());
-  grid.build(x, 2.0 * max_radius + skin);
+  grid.build(x, 2.0 * max_radius + skin, 0.0, threads);
+  find_pairs_in(grid, x, radius, skin, threads, first, second);
+}
+
+void find_pairs_in(const CellGrid& grid, const std::vector<Vec3>& x, const std::vector<double>& radius, double skin,
+                   int threads, std::vector<std::int32_t>& first, std::vector<std::int32_t>& second) {
   const auto n = static_cast<std::int64_t>(x.size());
   const int nthreads = threads_for(n, std::max(1, threads));
   std::vector<std::vector<std::int32_t>> local_first(static_cast<std::size_t>(nthreads)),

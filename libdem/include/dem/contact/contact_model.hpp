@@ -91,9 +91,10 @@ class ContactModel {
 
   /// Resizes `buffer` to `count` fresh States.
   virtual void reset_states(StateBuffer& buffer, std::size_t count) const = 0;
-  /// Builds `target` (count = source_of.size()): entry k copies source[source_of[k]], or is fresh if -1.
+  /// Builds `target` (count = source_of.size()): entry k copies source[source_of[k]], or is fresh if
+  /// -1; on up to `threads` OpenMP threads (each entry is its own: the same for any count).
   virtual void remap_states(const StateBuffer& source, const std::vector<std::int64_t>& source_of,
-                            StateBuffer& target) const = 0;
+                            StateBuffer& target, int threads) const = 0;
 };
 
 /// The law of each contact kind, indexed by ContactKind (null: none set).

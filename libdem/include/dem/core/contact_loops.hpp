@@ -605,15 +605,24 @@ class ContactModelFor final : public ContactModel {
     buffer.bytes.assign(count * sizeof(State), std::byte{0});
     for (std::size_t k = 0; k < count; ++k) ::new (buffer.at(k)) State{};
   }
-  void remap_states(const StateBuffer& source, const std::vector<std::int64_t>& source_of,
-                    StateBuffer& target) const override {
+  void remap_states(const StateBuffer& source, const std::vector<std::int64_t>& source_of, StateBuffer& target,
+                    int threads) const override {
     using State = typename Law::State;
-    reset_states(target, source_of.size());
-    if (source.law != law_tag<Law>() || source.stride != sizeof(State)) return;  // another law's: start fresh
-    for (std::size_t k = 0; k < source_of.size(); ++k) {
-      if (source_of[k] < 0) continue;
-      state_at<State>(target, k) =
-          *std::launder(reinterpret_cast<const State*>(source.at(static_cast<std::size_t>(source_of[k]))));
+    const auto count = static_cast<std::int64_t>(source_of.size());
+    target.law = law_tag<Law>();
+    target.stride = sizeof(State);
+    target.count = source_of.size();
+    target.bytes.assign(source_of.size() * sizeof(State), std::byte{0});  // padding bytes defined
+    const bool same_law = source.law == law_tag<Law>() && source.stride == sizeof(State);  // else all fresh
+    // One pass, each entry either copied or fresh.
+#pragma omp parallel for schedule(static) num_threads(threads_for(count, threads))
+    for (std::int64_t k = 0; k < count; ++k) {
+      const std::int64_t from = source_of[static_cast<std::size_t>(k)];
+      std::byte* entry = target.at(static_cast<std::size_t>(k));
+      if (same_law && from >= 0)
+        ::new (entry) State(*std::launder(reinterpret_cast<const State*>(source.at(static_cast<std::size_t>(from)))));
+      else
+        ::new (entry) State{};
     }
   }
 

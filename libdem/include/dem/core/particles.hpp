@@ -63,8 +63,9 @@ struct ParticleStore {
   /// Current storage index of a stable id.
   std::size_t index_of(ParticleId pid) const { return static_cast<std::size_t>(index_of_id_[pid]); }
 
-  /// Reorders storage so that new position k holds old position order[k].
-  void permute(const std::vector<std::int32_t>& order);
+  /// Reorders storage so that new position k holds old position order[k], on up to `threads`
+  /// OpenMP threads (the same result for any count).
+  void permute(const std::vector<std::int32_t>& order, int threads = 1);
 
   /// Rebuilds the id -> index map from `id` (after the arrays were filled from a checkpoint).
   void restore_index();

@@ -18,8 +18,12 @@ class CellGrid {
  public:
   /// Bins the points into cells of edge >= min_cell_size (m) over their bounding box, padded by
   /// `padding` (m). Cells grow if needed so that there are at most 8 per point (a runaway
-  /// particle must not exhaust memory).
-  void build(const std::vector<Vec3>& points, double min_cell_size, double padding = 0.0);
+  /// particle must not exhaust memory). The points' cells are found on up to `threads` OpenMP
+  /// threads (the same grid for any count).
+  void build(const std::vector<Vec3>& points, double min_cell_size, double padding = 0.0, int threads = 1);
+  /// After the points were reordered by cell_order() (point k is now the one that was
+  /// cell_order()[k]): the grid that build() would make of them, without binning them again.
+  void renumber_in_cell_order();
 
   /// Cell coordinates of a point (clamped to the grid).
   std::array<int, 3> cell_of(const Vec3& point) const;
@@ -57,5 +61,9 @@ class CellGrid {
 /// `first` and `second` receive the pairs in (i, j) order.
 void find_pairs(const std::vector<Vec3>& x, const std::vector<double>& radius, double skin, int threads,
                 CellGrid& grid, std::vector<std::int32_t>& first, std::vector<std::int32_t>& second);
+/// The same with `grid` already built of these points, with cells of at least the largest
+/// diameter plus the skin.
+void find_pairs_in(const CellGrid& grid, const std::vector<Vec3>& x, const std::vector<double>& radius, double skin,
+                   int threads, std::vector<std::int32_t>& first, std::vector<std::int32_t>& second);
 
 }  // namespace dem
