@@ -355,11 +355,18 @@ inline bool prefetch_second_pieces(std::size_t particles, std::size_t candidates
 }
 
 /// pair_range for a lane law: the same near candidates, block by block. Sums into particles happen
-/// in contact order, as in pair_range, so both give the same bits.
-template <LaneContactLaw Law, Sums Mode>
-void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const KernelContext& ctx,
-                      std::int64_t begin, std::int64_t end, std::vector<DeferredSum>* later, OverlapMonitor& local) {
+/// in contact order, as in pair_range, so both give the same bits. `record`: the step keeps the
+/// force records (KernelContext::record_pair_forces); `prefetch_second`: prefetch_second_pieces.
+/// Both are compiled in rather than tested per candidate: the scan is short of registers, and a
+/// flag held in one pushes a pointer out to the stack (about 2 % of the 14k loop on one thread).
+template <LaneContactLaw Law, Sums Mode, bool record, bool prefetch_second>
+void pair_range_lanes_with(const typename Law::Params& params, PairContacts& c, const KernelContext& shared_ctx,
+                           std::int64_t begin, std::int64_t end, std::vector<DeferredSum>* later, OverlapMonitor& local) {
   using State = typename Law::State;
+  // Local copies: the history's byte copies may alias anything for the compiler, which would
+  // otherwise reload the sums' addresses and the history's base and stride for every contact.
+  const KernelContext ctx = shared_ctx;
+  std::byte* const histories = c.state.bytes.data();  // States of sizeof(State) bytes (reset_states)
   const ParticleStore& p = *ctx.particles;
   const Vec3* x = p.x.data();
   const double* radius = p.radius.data();
@@ -370,14 +377,12 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
   Vec3* force = c.force.data();
   double* normal_force = c.normal_force.data();
   std::uint8_t* touching = c.touching.data();
-  const bool record = ctx.record_pair_forces;
   PairBlock<State> b;
   static_assert(sizeof(Vec3) == 3 * sizeof(double), "the block takes a Vec3 as three doubles");
   const Vec3* v = p.v.data();
   const Vec3* w = p.w.data();
   const BlockKernel<Law, PairBlock<State>> compute_block = block_kernel<Law, PairBlock<State>>(params, block_isa());
   OverlapMonitor worst = local;  // in registers: the loop's stores could alias `local`
-  const bool prefetch_second = prefetch_second_pieces(p.size(), c.size(), sizeof(State));
   for (std::int64_t a = begin; a < end;) {
     // The touching candidates of the next stretch, in order, without a branch on which ones
     // touch (three in four near candidates do, in no predictable pattern): every candidate is
@@ -398,14 +403,14 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
       if (separated & (touching[k] != 0)) end_contact<State>(c, k);
       // The block reads this contact's history and writes its results after the whole stretch
       // is found: ask for those lines now, so that they arrive meanwhile.
-      const std::byte* history = c.state.at(static_cast<std::size_t>(k));
+      const std::byte* history = histories + k * sizeof(State);
       DEM_PREFETCH_FOR_WRITE(history);
       DEM_PREFETCH_FOR_WRITE(history + sizeof(State) - 1);
-      if (record) {
+      if constexpr (record) {
         DEM_PREFETCH_FOR_WRITE(&force[k]);
         DEM_PREFETCH_FOR_WRITE(&normal_force[k]);
       }
-      if (prefetch_second) {
+      if constexpr (prefetch_second) {
         DEM_PREFETCH_FOR_READ(&v[j]);
         DEM_PREFETCH_FOR_READ(&w[j]);
         DEM_PREFETCH_FOR_WRITE(&ctx.scatter_force[j]);
@@ -413,7 +418,7 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
       }
     }
     for (int m = 0; m < count; ++m) {
-      b.load_history(m, c.state.at(static_cast<std::size_t>(b.contact[m])));
+      b.load_history(m, histories + b.contact[m] * sizeof(State));
       // Copied here, for the touching ones only, as three doubles a piece: the block's SIMD lanes
       // load such strided arrays whole and shuffle them, where loads by particle index cost
       // about three instructions a double (half of the block's instructions).
@@ -429,13 +434,13 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
       const std::int64_t k_m = b.contact[m];
       const auto i = static_cast<std::size_t>(b.first[m]);
       const auto j = static_cast<std::size_t>(b.second[m]);
-      b.store_history(m, c.state.at(static_cast<std::size_t>(k_m)));
+      b.store_history(m, histories + k_m * sizeof(State));
       // Added into the particles from plain doubles, not read back from force[k_m]: a load that
       // spans the three stores just made waits for them (no store forwarding).
       const Lane3 f{b.fx[m], b.fy[m], b.fz[m]};
       // The records only where they can be read: 32 of the 81 bytes a touching rolling-resistance
       // contact writes, and on a packing larger than the cache, main-memory traffic.
-      if (record) {
+      if constexpr (record) {
         force[k_m].x() = f.x, force[k_m].y() = f.y, force[k_m].z() = f.z;
         normal_force[k_m] = b.normal_force[m];
       }
@@ -447,6 +452,19 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
     }
   }
   local = worst;
+}
+
+/// pair_range_lanes_with for this step's flags.
+template <LaneContactLaw Law, Sums Mode>
+void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const KernelContext& ctx,
+                      std::int64_t begin, std::int64_t end, std::vector<DeferredSum>* later, OverlapMonitor& local) {
+  const bool prefetch = prefetch_second_pieces(ctx.particles->size(), c.size(), sizeof(typename Law::State));
+  if (ctx.record_pair_forces) {
+    if (prefetch) return pair_range_lanes_with<Law, Mode, true, true>(params, c, ctx, begin, end, later, local);
+    return pair_range_lanes_with<Law, Mode, true, false>(params, c, ctx, begin, end, later, local);
+  }
+  if (prefetch) return pair_range_lanes_with<Law, Mode, false, true>(params, c, ctx, begin, end, later, local);
+  pair_range_lanes_with<Law, Mode, false, false>(params, c, ctx, begin, end, later, local);
 }
 
 /// One mode's loop for one thread's share: blocks for a lane law where they pay (lanes_worthwhile),
