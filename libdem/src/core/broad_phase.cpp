@@ -7,8 +7,8 @@
 #include <cmath>
 #include <limits>
 
-#include <dem/core/errors.hpp>
-#include <dem/core/parallel.hpp>
+#include <dem/base/errors.hpp>
+#include <dem/base/threads.hpp>
 #include <dem/geometry/triangle.hpp>
 
 namespace dem {

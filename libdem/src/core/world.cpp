@@ -11,7 +11,7 @@
 
 #include <omp.h>
 
-#include <dem/core/errors.hpp>
+#include <dem/base/errors.hpp>
 
 namespace dem {
 

@@ -10,8 +10,8 @@
 #include <chrono>
 #include <cmath>
 
+#include <dem/base/errors.hpp>
 #include <dem/core/contact_loops.hpp>
-#include <dem/core/errors.hpp>
 #include <dem/core/world.hpp>
 
 namespace dem {

@@ -6,7 +6,7 @@
 #include <limits>
 #include <sstream>
 
-#include <dem/core/errors.hpp>
+#include <dem/base/errors.hpp>
 #include <dem/core/world.hpp>
 
 #include "leapfrog.hpp"

@@ -6,7 +6,7 @@
 #include <string>
 #include <type_traits>
 
-#include <dem/core/errors.hpp>
+#include <dem/base/errors.hpp>
 #include <dem/core/world.hpp>
 
 namespace dem {

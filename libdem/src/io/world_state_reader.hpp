@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-#include <dem/core/errors.hpp>
+#include <dem/base/errors.hpp>
 #include <dem/contact/contact_model.hpp>
 #include <dem/core/world_state.hpp>
 

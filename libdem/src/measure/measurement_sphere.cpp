@@ -14,7 +14,7 @@
 
 #include <Eigen/Eigenvalues>
 
-#include <dem/core/errors.hpp>
+#include <dem/base/errors.hpp>
 #include <dem/core/world.hpp>
 
 namespace dem {

@@ -14,9 +14,9 @@
 #include <utility>
 #include <vector>
 
+#include <dem/base/math.hpp>
 #include <dem/contact/kinematics.hpp>
 #include <dem/contact/lanes.hpp>
-#include <dem/core/math.hpp>
 
 namespace dem {
 

@@ -13,10 +13,10 @@
 #include <cmath>
 #include <string>
 
+#include <dem/base/errors.hpp>
 #include <dem/contact/contact_model.hpp>
 #include <dem/contact/kinematics.hpp>
 #include <dem/contact/lanes.hpp>
-#include <dem/core/errors.hpp>
 
 namespace dem {
 
