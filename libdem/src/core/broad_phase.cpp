@@ -9,6 +9,7 @@
 
 #include <dem/base/errors.hpp>
 #include <dem/base/threads.hpp>
+#include <dem/core/pair_geometry.hpp>
 #include <dem/geometry/triangle.hpp>
 
 namespace dem {
@@ -431,7 +432,7 @@ void BroadPhase::refresh_near(WorldState& state, int threads_available) {
         const auto i = static_cast<std::size_t>(c.first[static_cast<std::size_t>(k)]);
         const auto j = static_cast<std::size_t>(c.second[static_cast<std::size_t>(k)]);
         const double reach = p.radius[i] + p.radius[j] + near_skin_;
-        if (c.touching[static_cast<std::size_t>(k)] || (p.x[j] - p.x[i]).squaredNorm() < reach * reach)
+        if (c.touching[static_cast<std::size_t>(k)] || branch(p.x.data(), i, j).squaredNorm() < reach * reach)
           out.push_back(static_cast<std::int32_t>(k));
       }
     }

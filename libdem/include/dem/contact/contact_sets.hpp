@@ -93,7 +93,7 @@ inline void mark_touching(PairContacts& c) {
 
 /// The torque on piece 2 about its centre, from the force on it and the torque on piece 1: the
 /// two differ by the moment of the force over the branch d = x2 - x1 (T1 + T2 = -d x F), so a
-/// contact stores only T1. Serial steps and the threaded gather both use this, for the same bits.
+/// contact stores only T1. `branch` comes from the engine's pair geometry (core/pair_geometry.hpp).
 inline Vec3 second_torque(const Vec3& branch, const Vec3& force, const Vec3& torque_first) {
   return -branch.cross(force) - torque_first;
 }

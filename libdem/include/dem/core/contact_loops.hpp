@@ -22,6 +22,7 @@
 #include <dem/contact/contact_model.hpp>
 #include <dem/contact/lanes.hpp>
 #include <dem/core/block_isa.hpp>
+#include <dem/core/pair_geometry.hpp>
 #include <dem/core/parallel.hpp>
 #include <dem/core/particles.hpp>
 #include <dem/geometry/triangle.hpp>
@@ -133,7 +134,7 @@ void pair_range(const typename Law::Params& params, PairContacts& c, const Kerne
     const std::int64_t k = c.near[static_cast<std::size_t>(a)];
     const auto i = static_cast<std::size_t>(c.first[k]);
     const auto j = static_cast<std::size_t>(c.second[k]);
-    const Vec3 d = p.x[j] - p.x[i];
+    const Vec3 d = branch(p.x.data(), i, j);
     const double reach = p.radius[i] + p.radius[j];
     const double dist_sq = d.squaredNorm();
     if (dist_sq >= reach * reach) {
@@ -205,7 +206,7 @@ template <class State>
 struct PairBlock : BlockHistory<State> {
   std::int64_t contact[pair_block];
   std::int32_t first[pair_block], second[pair_block];
-  // inputs: branch d = x2 - x1 and radii (found while choosing the touching candidates)
+  // inputs: branch d = x2 - x1 (branch_lanes) and radii (found while choosing the touching candidates)
   double dx[pair_block], dy[pair_block], dz[pair_block];
   double radius_1[pair_block], radius_2[pair_block];
   // Both pieces' velocities (m/s) and angular velocities (rad/s), x y z of each contact in turn,
@@ -392,7 +393,7 @@ void pair_range_lanes_with(const typename Law::Params& params, PairContacts& c, 
     for (; a < end && count < pair_block; ++a) {
       const std::int64_t k = near[a];
       const std::int32_t i = first[k], j = second[k];
-      const Lane3 d = lane(x[j]) - lane(x[i]);
+      const Lane3 d = branch_lanes(x, i, j);
       const double reach = radius[i] + radius[j];
       const bool separated = squared_norm(d) >= reach * reach;
       b.contact[count] = k;
