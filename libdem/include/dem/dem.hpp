@@ -6,10 +6,11 @@
 #include <dem/boundary/clump.hpp>
 #include <dem/boundary/clump_ring.hpp>
 #include <dem/boundary/wall.hpp>
-#include <dem/contact/contact_model.hpp>
+#include <dem/contact/contact_law.hpp>
 #include <dem/contact/linear_law.hpp>
 #include <dem/control/servo_wall.hpp>
 #include <dem/core/contact_loops.hpp>  // make_contact_model for a law of your own
+#include <dem/core/contact_model.hpp>
 #include <dem/core/particles.hpp>
 #include <dem/core/world.hpp>
 #include <dem/geometry/mesh.hpp>

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include <dem/base/errors.hpp>
-#include <dem/contact/contact_model.hpp>
+#include <dem/core/contact_model.hpp>
 #include <dem/core/world_state.hpp>
 
 namespace dem::checkpoint {

@@ -3,7 +3,7 @@
 // for each of them, and the forces of the last step that recorded them (World::ContactRecords).
 //
 // The history is a byte buffer with one law State per candidate, created and copied only through
-// the law-typed ContactModel (contact_model.hpp). A candidate that is not touching holds a fresh
+// the law-typed ContactModel (core/contact_model.hpp). A candidate that is not touching holds a fresh
 // State, so history lives exactly as long as the contact (docs/model.md 1.1: history resets when the
 // pieces separate). Forces are written per contact and added into the particles in contact
 // order, which makes results independent of the thread count.
@@ -123,12 +123,6 @@ struct WallContacts {
   std::vector<double> normal_force;  // N, elastic, compression positive; 0 if not touching
   std::vector<double> normal_stiffness;  // N/m, 0 if not touching
   std::size_t size() const { return ball.size(); }
-};
-
-/// Worst contact of a step, for the instability check.
-struct OverlapMonitor {
-  double ratio = 0.0;    // overlap / radius of the smaller piece
-  std::int64_t contact = -1;
 };
 
 }  // namespace dem

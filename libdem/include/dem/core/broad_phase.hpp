@@ -11,7 +11,7 @@
 #include <cstdint>
 #include <vector>
 
-#include <dem/contact/contact_model.hpp>
+#include <dem/core/contact_model.hpp>
 #include <dem/core/world_state.hpp>
 #include <dem/grid/cell_grid.hpp>
 

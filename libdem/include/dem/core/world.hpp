@@ -29,8 +29,8 @@
 #include <variant>
 #include <vector>
 
-#include <dem/contact/contact_model.hpp>
 #include <dem/core/broad_phase.hpp>
+#include <dem/core/contact_model.hpp>
 #include <dem/core/damping_frame.hpp>
 #include <dem/core/world_state.hpp>
 

@@ -1,45 +1,32 @@
-// Pluggable contact laws. A law is a plain type (STYLE.md section 3):
+// A contact law bound to its parameters and to the engine's loops: the ContactModel that a World
+// runs for one contact type. A law (contact/contact_law.hpp) knows its two pieces; the model runs it
+// over the contacts of a step, on the step's threads and processes, so the laws stay free of all
+// of that.
 //
-//   struct MyLaw {
-//     struct Params { ...; void validate(const std::string& where) const; };   // SI
-//     struct State  { ... };   // per-contact history; a value-initialised State is a fresh contact
-//     static constexpr const char* name = "my-law";
-//     static ContactForce force(const Params&, const ContactKinematics&, State&);
-//     static ContactStiffness stiffness(const Params&, const ContactKinematics&);
-//   };
+//   world.set_contact_model(dem::ContactKind::BallBall,
+//       dem::make_contact_model<dem::RollingLinearLaw>(params, "ball-ball"));
 //
-// and `make_contact_model<MyLaw>(params)` turns it into a ContactModel that the World uses for one
-// contact type (its loops are in dem/core/contact_loops.hpp: include that, or dem/dem.hpp, where
-// you call it for a law of your own; the built-in laws' loops are compiled in the library). The choice of law is made at run time, once per contact type; the loop over the
-// contacts of that type is a template on the concrete law (run-time choice, compile-time loop),
-// so a new law costs no engine edit and no virtual call per contact.
+// make_contact_model's loops are in dem/core/contact_loops.hpp: include that, or dem/dem.hpp,
+// where you call it for a law of your own; the built-in laws' loops are compiled in the library.
 #pragma once
 
 #include <array>
-#include <concepts>
 #include <cstdint>
 #include <limits>
 #include <memory>
-#include <new>
 #include <string>
-#include <type_traits>
+#include <vector>
 
+#include <dem/contact/contact_law.hpp>
 #include <dem/contact/contact_sets.hpp>
 #include <dem/contact/kinematics.hpp>
+#include <dem/contact/linear_law.hpp>
 #include <dem/core/parallel.hpp>
 
 namespace dem {
 
 struct ParticleStore;
 struct Wall;
-
-template <class L>
-concept ContactLaw = requires(const typename L::Params& p, const ContactKinematics& k, typename L::State& s) {
-  { L::force(p, k, s) } -> std::same_as<ContactForce>;
-  { L::stiffness(p, k) } -> std::same_as<ContactStiffness>;
-  { p.validate(std::string{}) };
-  { L::name } -> std::convertible_to<const char*>;
-} && std::is_trivially_destructible_v<typename L::State> && std::is_default_constructible_v<typename L::State>;
 
 /// Everything a contact kernel needs besides the contacts themselves.
 struct KernelContext {
@@ -76,6 +63,12 @@ struct KernelContext {
   std::int64_t owned_end = std::numeric_limits<std::int64_t>::max();
 };
 
+/// Worst contact of a step, for the instability check.
+struct OverlapMonitor {
+  double ratio = 0.0;    // overlap / radius of the smaller piece
+  std::int64_t contact = -1;
+};
+
 /// A contact law bound to its parameters, for one contact type.
 class ContactModel {
  public:
@@ -105,5 +98,12 @@ template <ContactLaw Law>
 std::shared_ptr<const ContactModel> make_contact_model(const typename Law::Params& params,
                                                        const std::string& where = "contact");
 
-}  // namespace dem
+// The linear laws' loops are compiled once, in the library (src/core/builtin_law_loops.cpp): a
+// program that sets these laws compiles none of the loop templates, and every program runs the
+// same machine code for them.
+extern template std::shared_ptr<const ContactModel> make_contact_model<LinearLaw>(const LinearLaw::Params&,
+                                                                                 const std::string&);
+extern template std::shared_ptr<const ContactModel> make_contact_model<RollingLinearLaw>(
+    const RollingLinearLaw::Params&, const std::string&);
 
+}  // namespace dem
