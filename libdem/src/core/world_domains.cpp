@@ -246,9 +246,9 @@ void World::copies_go_stale() {
 void World::keep_local_near() {
   if (!spread()) return;
   int set = 0;
-  state_.contacts.for_each_pair_set([&](PairContacts& c) {
+  state_.contacts.for_each_pair_set([&](const PairContacts& c) {
     const std::vector<std::uint8_t>& local = domains_->local[static_cast<std::size_t>(set++)];
-    std::erase_if(c.near, [&local](std::int32_t k) { return local[static_cast<std::size_t>(k)] == 0; });
+    std::erase_if(plan_.pairs(c.kind).near, [&local](std::int32_t k) { return local[static_cast<std::size_t>(k)] == 0; });
   });
 }
 

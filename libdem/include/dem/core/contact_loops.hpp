@@ -30,6 +30,7 @@
 #include <dem/core/pair_geometry.hpp>
 #include <dem/core/parallel.hpp>
 #include <dem/core/particles.hpp>
+#include <dem/core/step_plan.hpp>
 #include <dem/geometry/triangle.hpp>
 
 // "The iterations of the next loop are independent": lets GCC vectorise a loop whose arrays it
@@ -197,8 +198,8 @@ class ContactModelFor final : public ContactModel {
  public:
   explicit ContactModelFor(const typename Law::Params& params) : params_(params) {}
   const char* law_name() const override { return Law::name; }
-  void compute(PairContacts& c, const KernelContext& ctx, OverlapMonitor& worst) const override {
-    compute_pairs<Law>(params_, c, ctx, worst);
+  void compute(PairContacts& c, PairPlan& plan, const KernelContext& ctx, OverlapMonitor& worst) const override {
+    compute_pairs<Law>(params_, c, plan, ctx, worst);
   }
   void compute(WallContacts& c, const KernelContext& ctx, OverlapMonitor& worst) const override {
     compute_walls<Law>(params_, c, ctx, worst);

@@ -1,8 +1,8 @@
 // The pair loops of contact_loops.hpp (which includes this header between its attribute macros;
-// include that one): ball-ball and ball-pebble contacts over their near candidates, one contact at
-// a time or, for a lane law, in blocks of touching contacts, each contact's force and torque added
-// into its particles' sums in contact order, with the threads' shares and the deferred parts of
-// shared particles.
+// include that one): ball-ball and ball-pebble contacts over the near candidates of the step's
+// plan (PairPlan), one contact at a time or, for a lane law, in blocks of touching contacts, each
+// contact's force and torque added into its particles' sums in contact order, with the threads'
+// shares and the deferred parts of shared particles as the plan says.
 #pragma once
 
 #if !defined(DEM_TARGET_AVX2)
@@ -28,7 +28,7 @@ DEM_HOT_INLINE void subtract_from(Vec3& sum, const Lane3& v) { sum.x() -= v.x, s
 
 /// Which of a contact's parts a loop adds into the particles' sums itself, and which it leaves in
 /// a list for the engine to add once the contacts before it have added theirs: the first share
-/// adds all; a later share defers the particles shared with other shares (KernelContext::shared);
+/// adds all; a later share defers the particles shared with other shares (StepPlan::shared);
 /// a chunk taken from another thread's share defers all, since that share's own thread may still
 /// be adding into the same particles.
 enum class Sums { direct, defer_shared, defer_all };
@@ -64,15 +64,16 @@ inline void add_deferred(const KernelContext& ctx, const std::vector<DeferredSum
   }
 }
 
-/// The pair loop over the near candidates c.near[begin, end): a chunk of one thread's share, its
-/// sums added or left in `later` as `Mode` says.
+/// The pair loop over the near candidates near[begin, end) (PairPlan::near): a chunk of one
+/// thread's share, its sums added or left in `later` as `Mode` says.
 template <ContactLaw Law, Sums Mode>
-void pair_range(const typename Law::Params& params, PairContacts& c, const KernelContext& ctx, std::int64_t begin,
-                std::int64_t end, std::vector<DeferredSum>* later, OverlapMonitor& local) {
+void pair_range(const typename Law::Params& params, PairContacts& c, const std::vector<std::int32_t>& near,
+                const KernelContext& ctx, std::int64_t begin, std::int64_t end, std::vector<DeferredSum>* later,
+                OverlapMonitor& local) {
   using State = typename Law::State;
   const ParticleStore& p = *ctx.particles;
   for (std::int64_t a = begin; a < end; ++a) {
-    const std::int64_t k = c.near[static_cast<std::size_t>(a)];
+    const std::int64_t k = near[static_cast<std::size_t>(a)];
     const auto i = static_cast<std::size_t>(c.first[k]);
     const auto j = static_cast<std::size_t>(c.second[k]);
     const Vec3 d = branch(p.x.data(), i, j);
@@ -200,7 +201,8 @@ inline bool prefetch_second_pieces(std::size_t particles, std::size_t candidates
 /// Both are compiled in rather than tested per candidate: the scan is short of registers, and a
 /// flag held in one pushes a pointer out to the stack (about 2 % of the 14k loop on one thread).
 template <LaneContactLaw Law, Sums Mode, bool record, bool prefetch_second>
-void pair_range_lanes_with(const typename Law::Params& params, PairContacts& c, const KernelContext& shared_ctx,
+void pair_range_lanes_with(const typename Law::Params& params, PairContacts& c,
+                           const std::vector<std::int32_t>& near_list, const KernelContext& shared_ctx,
                            std::int64_t begin, std::int64_t end, std::vector<DeferredSum>* later, OverlapMonitor& local) {
   using State = typename Law::State;
   // Local copies: the history's byte copies may alias anything for the compiler, which would
@@ -213,7 +215,7 @@ void pair_range_lanes_with(const typename Law::Params& params, PairContacts& c, 
   const double* inv_mass = p.inv_mass.data();
   const std::int32_t* first = c.first.data();
   const std::int32_t* second = c.second.data();
-  const std::int32_t* near = c.near.data();
+  const std::int32_t* near = near_list.data();
   Vec3* force = c.force.data();
   double* normal_force = c.normal_force.data();
   std::uint8_t* touching = c.touching.data();
@@ -296,26 +298,28 @@ void pair_range_lanes_with(const typename Law::Params& params, PairContacts& c, 
 
 /// pair_range_lanes_with for this step's flags.
 template <LaneContactLaw Law, Sums Mode>
-void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const KernelContext& ctx,
-                      std::int64_t begin, std::int64_t end, std::vector<DeferredSum>* later, OverlapMonitor& local) {
+void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const std::vector<std::int32_t>& near,
+                      const KernelContext& ctx, std::int64_t begin, std::int64_t end, std::vector<DeferredSum>* later,
+                      OverlapMonitor& local) {
   const bool prefetch = prefetch_second_pieces(ctx.particles->size(), c.size(), sizeof(typename Law::State));
   if (ctx.record_pair_forces) {
-    if (prefetch) return pair_range_lanes_with<Law, Mode, true, true>(params, c, ctx, begin, end, later, local);
-    return pair_range_lanes_with<Law, Mode, true, false>(params, c, ctx, begin, end, later, local);
+    if (prefetch) return pair_range_lanes_with<Law, Mode, true, true>(params, c, near, ctx, begin, end, later, local);
+    return pair_range_lanes_with<Law, Mode, true, false>(params, c, near, ctx, begin, end, later, local);
   }
-  if (prefetch) return pair_range_lanes_with<Law, Mode, false, true>(params, c, ctx, begin, end, later, local);
-  pair_range_lanes_with<Law, Mode, false, false>(params, c, ctx, begin, end, later, local);
+  if (prefetch) return pair_range_lanes_with<Law, Mode, false, true>(params, c, near, ctx, begin, end, later, local);
+  pair_range_lanes_with<Law, Mode, false, false>(params, c, near, ctx, begin, end, later, local);
 }
 
 /// One mode's loop for one thread's share: blocks for a lane law where they pay (lanes_worthwhile),
 /// one contact at a time otherwise.
 template <ContactLaw Law, Sums Mode>
-void pair_share(const typename Law::Params& params, PairContacts& c, const KernelContext& ctx, std::int64_t begin,
-                std::int64_t end, std::vector<DeferredSum>* later, OverlapMonitor& local) {
+void pair_share(const typename Law::Params& params, PairContacts& c, const std::vector<std::int32_t>& near,
+                const KernelContext& ctx, std::int64_t begin, std::int64_t end, std::vector<DeferredSum>* later,
+                OverlapMonitor& local) {
   if constexpr (LaneContactLaw<Law>) {
-    if (lanes_worthwhile()) return pair_range_lanes<Law, Mode>(params, c, ctx, begin, end, later, local);
+    if (lanes_worthwhile()) return pair_range_lanes<Law, Mode>(params, c, near, ctx, begin, end, later, local);
   }
-  pair_range<Law, Mode>(params, c, ctx, begin, end, later, local);
+  pair_range<Law, Mode>(params, c, near, ctx, begin, end, later, local);
 }
 
 /// Near candidates per chunk that a thread takes from another's share: a few microseconds of work
@@ -323,15 +327,17 @@ void pair_share(const typename Law::Params& params, PairContacts& c, const Kerne
 /// costs nothing and a chunk's blocks are nearly full).
 inline constexpr std::int64_t steal_chunk = 512;
 
+/// The pair loop over every near candidate of `plan`, on the threads of its shares.
 template <ContactLaw Law>
-void compute_pairs(const typename Law::Params& params, PairContacts& c, const KernelContext& ctx,
+void compute_pairs(const typename Law::Params& params, PairContacts& c, PairPlan& plan, const KernelContext& ctx,
                    OverlapMonitor& worst) {
-  const int threads = ctx.shared && c.shares.size() >= 2 ? static_cast<int>(c.shares.size()) - 1 : 1;
+  const std::vector<std::int32_t>& near = plan.near;
+  const int threads = ctx.shared && plan.shares.size() >= 2 ? static_cast<int>(plan.shares.size()) - 1 : 1;
   c.force.resize(c.size(), Vec3::Zero());
   c.normal_force.resize(c.size(), 0.0);
   if (c.touching.size() != c.size()) mark_touching(c);
   if (threads == 1) {
-    pair_share<Law, Sums::direct>(params, c, ctx, 0, static_cast<std::int64_t>(c.near.size()), nullptr, worst);
+    pair_share<Law, Sums::direct>(params, c, near, ctx, 0, static_cast<std::int64_t>(near.size()), nullptr, worst);
     return;
   }
   // Share t is the near candidates [near_begin[t], near_begin[t + 1]), cut into chunks; its chunks
@@ -339,25 +345,25 @@ void compute_pairs(const typename Law::Params& params, PairContacts& c, const Ke
   const auto shares = static_cast<std::size_t>(threads);
   std::vector<std::int64_t> near_begin(shares + 1), chunk_base(shares + 1, 0);
   for (std::size_t t = 0; t <= shares; ++t) {
-    near_begin[t] = std::lower_bound(c.near.begin(), c.near.end(), c.shares[t]) - c.near.begin();
+    near_begin[t] = std::lower_bound(near.begin(), near.end(), plan.shares[t]) - near.begin();
     if (t > 0)
       chunk_base[t] = chunk_base[t - 1] + (near_begin[t] - near_begin[t - 1] + steal_chunk - 1) / steal_chunk;
   }
-  // Each share's unshared run (PairContacts::unshared_run) as near candidates.
+  // Each share's unshared run (PairPlan::unshared_run) as near candidates.
   std::vector<std::pair<std::int64_t, std::int64_t>> unshared_near(shares, {0, 0});
-  for (std::size_t t = 0; t < shares && t < c.unshared_run.size(); ++t) {
-    const auto near_of = [&c](std::int64_t k) { return std::lower_bound(c.near.begin(), c.near.end(), k) - c.near.begin(); };
-    unshared_near[t] = {near_of(c.unshared_run[t].first), near_of(c.unshared_run[t].second)};
+  for (std::size_t t = 0; t < shares && t < plan.unshared_run.size(); ++t) {
+    const auto near_of = [&near](std::int64_t k) { return std::lower_bound(near.begin(), near.end(), k) - near.begin(); };
+    unshared_near[t] = {near_of(plan.unshared_run[t].first), near_of(plan.unshared_run[t].second)};
   }
   std::unique_ptr<ChunkQueue[]> queues(new ChunkQueue[shares]);
   for (std::size_t t = 0; t < shares; ++t) queues[t].reset(chunk_base[t + 1] - chunk_base[t]);
-  c.deferred.resize(shares);
-  for (std::vector<DeferredSum>& later : c.deferred) later.clear();
-  c.taken.resize(static_cast<std::size_t>(chunk_base[shares]));
-  for (std::vector<DeferredSum>& later : c.taken) later.clear();
-  if (c.share_seconds.size() != shares || c.share_done.size() != shares) {
-    c.share_seconds.assign(shares, 0.0);
-    c.share_done.assign(shares, 0);
+  plan.deferred.resize(shares);
+  for (std::vector<DeferredSum>& later : plan.deferred) later.clear();
+  plan.taken.resize(static_cast<std::size_t>(chunk_base[shares]));
+  for (std::vector<DeferredSum>& later : plan.taken) later.clear();
+  if (plan.share_seconds.size() != shares || plan.share_done.size() != shares) {
+    plan.share_seconds.assign(shares, 0.0);
+    plan.share_done.assign(shares, 0);
   }
 #pragma omp parallel num_threads(threads)
   {
@@ -378,18 +384,19 @@ void compute_pairs(const typename Law::Params& params, PairContacts& c, const Ke
     // Share t's chunk [begin, end) in its own thread: the part in the share's unshared run with
     // every sum added directly (no particle there is shared), the rest deferring the shared ones.
     const auto own_chunk = [&](std::size_t t, std::int64_t begin, std::int64_t end) {
-      if (t == 0) return pair_share<Law, Sums::direct>(params, c, ctx, begin, end, nullptr, local);
+      if (t == 0) return pair_share<Law, Sums::direct>(params, c, near, ctx, begin, end, nullptr, local);
       const std::int64_t direct_begin = std::clamp(unshared_near[t].first, begin, end);
       const std::int64_t direct_end = std::clamp(unshared_near[t].second, direct_begin, end);
-      pair_share<Law, Sums::defer_shared>(params, c, ctx, begin, direct_begin, &c.deferred[t], local);
-      pair_share<Law, Sums::direct>(params, c, ctx, direct_begin, direct_end, nullptr, local);
-      pair_share<Law, Sums::defer_shared>(params, c, ctx, direct_end, end, &c.deferred[t], local);
+      pair_share<Law, Sums::defer_shared>(params, c, near, ctx, begin, direct_begin, &plan.deferred[t], local);
+      pair_share<Law, Sums::direct>(params, c, near, ctx, direct_begin, direct_end, nullptr, local);
+      pair_share<Law, Sums::defer_shared>(params, c, near, ctx, direct_end, end, &plan.deferred[t], local);
     };
     std::int64_t done = 0;
     if (!as_planned) {
       // The runtime gave fewer threads than planned: one thread takes every contact and adds
       // every sum itself.
-      if (me == 0) pair_share<Law, Sums::direct>(params, c, ctx, 0, static_cast<std::int64_t>(c.near.size()), nullptr, local);
+      if (me == 0)
+        pair_share<Law, Sums::direct>(params, c, near, ctx, 0, static_cast<std::int64_t>(near.size()), nullptr, local);
     } else {
       // Its own share from the front, in contact order (the first share adds every sum itself)...
       for (std::int64_t chunk; (chunk = queues[me].take_front()) >= 0;) {
@@ -407,15 +414,15 @@ void compute_pairs(const typename Law::Params& params, PairContacts& c, const Ke
         const std::int64_t chunk = queues[from].take_back();
         if (chunk < 0) continue;
         const auto [begin, end] = chunk_range(from, chunk);
-        pair_share<Law, Sums::defer_all>(params, c, ctx, begin, end,
-                                         &c.taken[static_cast<std::size_t>(chunk_base[from] + chunk)], local);
+        pair_share<Law, Sums::defer_all>(params, c, near, ctx, begin, end,
+                                         &plan.taken[static_cast<std::size_t>(chunk_base[from] + chunk)], local);
         done += end - begin;
       }
     }
 #if defined(_OPENMP)
     if (as_planned) {
-      c.share_seconds[me] += omp_get_wtime() - started;
-      c.share_done[me] += done;
+      plan.share_seconds[me] += omp_get_wtime() - started;
+      plan.share_done[me] += done;
     }
 #endif
 #pragma omp critical(dem_overlap_monitor)
@@ -424,8 +431,8 @@ void compute_pairs(const typename Law::Params& params, PairContacts& c, const Ke
   // Then the deferred parts in contact order, share by share: its own thread's, then those of the
   // chunks other threads took from its end. Each particle's sum is the serial one.
   for (std::size_t t = 0; t < shares; ++t) {
-    add_deferred(ctx, c.deferred[t]);
-    for (std::int64_t g = chunk_base[t]; g < chunk_base[t + 1]; ++g) add_deferred(ctx, c.taken[static_cast<std::size_t>(g)]);
+    add_deferred(ctx, plan.deferred[t]);
+    for (std::int64_t g = chunk_base[t]; g < chunk_base[t + 1]; ++g) add_deferred(ctx, plan.taken[static_cast<std::size_t>(g)]);
   }
 }
 
