@@ -1,5 +1,6 @@
 // World: building, the step loop, the clock and the time step. The broad phase is BroadPhase
-// (broad_phase.cpp), the threads' shares StepPlan (step_plan.cpp); forces are in world_forces.cpp,
+// (broad_phase.cpp), the threads' shares StepPlan (step_plan.cpp), the subdomains of a World spread
+// over processes parallel::Subdomains (world_domains.cpp delegates); forces are in world_forces.cpp,
 // integration and stability checks in world_integrate.cpp, queries in world_query.cpp; restart
 // files in io/world_state.cpp.
 #include <dem/core/world.hpp>

@@ -1,7 +1,8 @@
 // The World owns a simulation: its state (WorldState: particles, clumps, walls, the contact sets
 // and the clock), the contact model of each contact kind, and the parts it delegates to: the
-// broad phase (BroadPhase) that keeps the contact lists, and the step's plan (StepPlan: near
-// lists, threads' shares, ownership). There are no globals: two Worlds are independent.
+// broad phase (BroadPhase) that keeps the contact lists, the step's plan (StepPlan: near lists,
+// threads' shares, ownership) and, when spread over processes, the subdomains
+// (parallel::Subdomains). There are no globals: two Worlds are independent.
 //
 // A step (leapfrog, as PFC's velocity Verlet with velocities half a step behind, docs/model.md 2):
 //   1. rebuild the Verlet lists if something moved more than allowed by the skin, and refresh
@@ -38,13 +39,10 @@
 
 namespace dem::parallel {
 class DomainComm;
-}
+class Subdomains;
+}  // namespace dem::parallel
 
 namespace dem {
-
-namespace detail {
-struct Subdomains;
-}
 
 /// Wall-clock seconds spent in each part of the step, summed over the steps since the World was
 /// made or reset_step_timing() (not part of the saved state). For benchmarks: where a step's time
@@ -251,7 +249,8 @@ class World {
   /// overlap when it is softer than the stiffest, or the load).
   [[noreturn]] void fail(const std::string& what, std::size_t particle, std::optional<ContactKind> kind = std::nullopt) const;
 
-  // Spread over processes (world_domains.cpp); each does nothing in one process.
+  // Spread over processes: each delegates to the Subdomains (world_domains.cpp) and does nothing
+  // in one process.
   /// std::logic_error naming `what` when a spread World is read between a step that ended with
   /// StepEnd::WallsAndClumps (or, during a step, from a controller) and the next gather.
   void require_whole(const char* what) const;
@@ -290,9 +289,8 @@ class World {
   std::vector<std::function<void(World&)>> controllers_;
   std::vector<std::pair<std::int64_t, std::function<void(World&)>>> callbacks_;
   StepTiming timing_;
-  std::shared_ptr<parallel::DomainComm> comm_;     // null: one process
-  std::shared_ptr<detail::Subdomains> domains_;    // the plan of a spread World
   StepPlan plan_;
+  std::shared_ptr<parallel::Subdomains> domains_;  // null: one process
   ContactRecords contact_records_ = ContactRecords::WhenRead;
   bool pair_records_current_ = true;  // the last step recorded the pair contacts' forces
   // Where the pebbles are stored, so that a step looks up no ids: the pebbles in storage order,
