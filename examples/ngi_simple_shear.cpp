@@ -83,7 +83,7 @@ int main(int argc, char** argv) try {
   }
   growing = false, specimen_made = true;
   lab::release_rings(world, cell);
-  lab::set_contact_laws(world, c, c.ball_ball.friction, c.ball_ball.rolling_friction, false);
+  lab::set_contact_laws(world, c, c.ball_ball.friction(), c.ball_ball.rolling_friction(), false);
   std::printf("generated %zu balls in %lld steps, porosity %.4f\n", diameters.size(),
               static_cast<long long>(world.step_count()), lab::specimen_porosity(world, cell));
 

@@ -52,7 +52,7 @@ struct TrialWorld {
   World world;
   ShearCell cell;
   explicit TrialWorld(const SimpleShearConfig& c) : world(world_settings(c)), cell(build_shear_cell(world, shear_cell_spec(c))) {
-    set_contact_laws(world, c, c.ball_ball.friction, c.ball_ball.rolling_friction, false);
+    set_contact_laws(world, c, c.ball_ball.friction(), c.ball_ball.rolling_friction(), false);
   }
 };
 
@@ -183,9 +183,9 @@ ShearTrials::~ShearTrials() = default;
 
 SimpleShearConfig ShearTrials::config_for(const ContactFit& fit, int threads) const {
   SimpleShearConfig c = base_;
-  c.ball_ball.effective_modulus = fit.effective_modulus;
-  c.ball_ball.friction = fit.friction;
-  c.ball_ball.rolling_friction = fit.rolling_friction;
+  c.ball_ball.set_stiffness(fit.effective_modulus);
+  c.ball_ball.set_friction(fit.friction);
+  if (!c.ball_ball.entry().roles.rolling_friction.empty()) c.ball_ball.set_rolling_friction(fit.rolling_friction);
   c.engine.threads = std::max(1, threads);
   return c;
 }
@@ -199,13 +199,13 @@ fs::path ShearTrials::trial_dir(int number) const {
 }
 
 fs::path ShearTrials::specimen_restart(double modulus) const {
-  if (!given_consolidated_.empty() && modulus == base_.ball_ball.effective_modulus) return given_consolidated_;
+  if (!given_consolidated_.empty() && modulus == base_.ball_ball.stiffness()) return given_consolidated_;
   return specimen_dir(modulus) / "consolidated.restart";
 }
 
 std::vector<double> ShearTrials::prepare(const std::vector<double>& moduli, int parallel, int threads) {
   std::vector<double> seconds(moduli.size(), 0.0);
-  const double start_modulus = base_.ball_ball.effective_modulus;
+  const double start_modulus = base_.ball_ball.stiffness();
   if (!given_consolidated_.empty() && rule_ == ModulusSpecimen::Generated) {
     for (double m : moduli)
       require(m == start_modulus, "trial E*", m, "the E* of the --from specimen, " + detail::exact_text(start_modulus));
@@ -264,7 +264,7 @@ void ShearTrials::generate_once(int threads) {
     fs::remove_all(generated_files_);
     fs::create_directories(generated_files_);
     std::ofstream log(generated_files_ / "log.txt");
-    SimpleShearTest test(config_for({base_.ball_ball.effective_modulus, base_.ball_ball.friction, base_.ball_ball.rolling_friction},
+    SimpleShearTest test(config_for({base_.ball_ball.stiffness(), base_.ball_ball.friction(), base_.ball_ball.rolling_friction()},
                                     threads),
                          generated_files_, log);
     test.generate();
@@ -280,13 +280,13 @@ void ShearTrials::generate_once(int threads) {
 void ShearTrials::consolidate_specimen(double modulus, int threads) {
   // From the generated state, or again from the starting E*'s consolidated specimen; with the
   // starting mu and mu_r either way, so that a specimen depends on E* only.
-  const bool again = rule_ == ModulusSpecimen::Reconsolidated && modulus != base_.ball_ball.effective_modulus;
-  const fs::path from = again ? specimen_restart(base_.ball_ball.effective_modulus) : generated_restart_;
+  const bool again = rule_ == ModulusSpecimen::Reconsolidated && modulus != base_.ball_ball.stiffness();
+  const fs::path from = again ? specimen_restart(base_.ball_ball.stiffness()) : generated_restart_;
   const fs::path dir = specimen_dir(modulus);
   fs::remove_all(dir);
   fs::create_directories(dir);
   std::ofstream log(dir / "log.txt");
-  SimpleShearTest test(config_for({modulus, base_.ball_ball.friction, base_.ball_ball.rolling_friction}, threads), dir, log);
+  SimpleShearTest test(config_for({modulus, base_.ball_ball.friction(), base_.ball_ball.rolling_friction()}, threads), dir, log);
   test.load_restart(from);
   // Both write dir/consolidated.restart last: its presence marks a finished specimen.
   if (again) test.reconsolidate();

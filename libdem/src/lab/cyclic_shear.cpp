@@ -73,7 +73,7 @@ CyclicShearTest::CyclicShearTest(SimpleShearTest& specimen, CyclicShearConfig co
   drive.bottom = specimen_.bottom_plate();
   drive.area = specimen_.area();
   drive.height = height;
-  drive.stiffness_ratio = specimen_.config().ball_facet.stiffness_ratio;
+  drive.stiffness_ratio = specimen_.config().ball_facet.parameters.value_or("stiffness_ratio", 1.0);
   drive.relaxation = config_.servo_relaxation;
   drive.max_speed = config_.servo_max_speed > 0 ? config_.servo_max_speed : 10.0 * shear_rate_ * height;
   drive_ = std::make_shared<HorizontalDrive>(drive);

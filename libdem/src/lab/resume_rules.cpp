@@ -34,6 +34,7 @@ const std::map<std::string, ResumeRule>& rules() {
     // from the consolidation on (the generation uses generation.friction, frictionless walls).
     for (const char* section : {"ball_ball.", "ball_facet.", "ball_pebble."}) {
       const std::string s = section;
+      t[s + "law"] = fixed(P::Generating, "the contacts so far had it");
       for (const char* name : {"effective_modulus", "stiffness_ratio", "normal_damping_ratio", "shear_damping_ratio"})
         t[s + name] = fixed(P::Generating, "the contacts so far had it", true);
       for (const char* name : {"friction", "rolling_friction"})
@@ -90,6 +91,9 @@ namespace {
 const std::map<std::string, std::string>& values_before_keys() {
   static const std::map<std::string, std::string> values = {
       {"shear.damping_frame", "fixed"},  // shear legs were damped in the fixed frame (docs/model.md 3.1)
+      {"ball_ball.law", "rrlinear"},  // the one law of the contact types before the registry
+      {"ball_facet.law", "rrlinear"},
+      {"ball_pebble.law", "rrlinear"},
   };
   return values;
 }

@@ -50,7 +50,7 @@ SimpleShearTest::~SimpleShearTest() = default;
 void SimpleShearTest::build_world() {
   world_ = std::make_unique<World>(world_settings(config_));
   cell_ = build_shear_cell(*world_, shear_cell_spec(config_));
-  set_contact_models(config_.ball_ball.friction, config_.ball_ball.rolling_friction, false);
+  set_contact_models(config_.ball_ball.friction(), config_.ball_ball.rolling_friction(), false);
   servo_.reset();
   world_->add_controller([this](World& w) { control(w); });
 }
@@ -111,7 +111,7 @@ void SimpleShearTest::generate() {
   generation_floor_ = false;
   generated_state_ = specimen_state();
   release_rings(*world_, cell_);
-  set_contact_models(config_.ball_ball.friction, config_.ball_ball.rolling_friction, false);
+  set_contact_models(config_.ball_ball.friction(), config_.ball_ball.rolling_friction(), false);
   stage_ = ShearStage::Generated;
   wall_seconds_ += seconds_since(t0);
   log_ << "generation done in " << seconds_since(t0) << " s, " << world_->step_count() << " steps: porosity "

@@ -42,9 +42,9 @@ Grading study_grading() {
   return g;
 }
 
-double SimpleShearConfig::generation_friction() const { return generation.friction.value_or(ball_ball.friction); }
+double SimpleShearConfig::generation_friction() const { return generation.friction.value_or(ball_ball.friction()); }
 double SimpleShearConfig::generation_rolling_friction() const {
-  return generation.rolling_friction.value_or(ball_ball.rolling_friction);
+  return generation.rolling_friction.value_or(ball_ball.rolling_friction());
 }
 
 void SimpleShearConfig::validate() const {
@@ -82,18 +82,6 @@ const BindingTable<Grading>& grading_keys() {
       {"scale", &S::scale, "-", "particle size multiplier (1D, 2D, 4D = 1, 2, 4)", 0.0, {}, true},
   };
   return table;
-}
-
-BindingTable<ContactTypeConfig> contact_keys(const std::string& what) {
-  using S = ContactTypeConfig;
-  return {
-      {"effective_modulus", &S::effective_modulus, "Pa", "effective modulus E* of " + what + " contacts (deformability method)", 0.0, {}, true},
-      {"stiffness_ratio", &S::stiffness_ratio, "-", "normal-to-shear stiffness ratio kappa*", 0.0, {}, true},
-      {"friction", &S::friction, "-", "Coulomb friction coefficient", 0.0},
-      {"rolling_friction", &S::rolling_friction, "-", "rolling resistance coefficient mu_r", 0.0},
-      {"normal_damping_ratio", &S::normal_damping_ratio, "-", "normal dashpot critical-damping ratio (the study does not state one)", 0.0, 1.0},
-      {"shear_damping_ratio", &S::shear_damping_ratio, "-", "shear dashpot critical-damping ratio", 0.0, 1.0},
-  };
 }
 
 const BindingTable<RingsConfig>& rings_keys() {
@@ -224,17 +212,15 @@ const BindingTable<OutputConfig>& output_keys() {
   return table;
 }
 
-// Calls visit(section, table, member) for every section of SimpleShearConfig, in file order.
-template <class Config, class Visit>
-void for_each_section(Config& c, Visit&& visit) {
-  static const BindingTable<ContactTypeConfig> ball_ball = contact_keys("ball-ball");
-  static const BindingTable<ContactTypeConfig> ball_facet = contact_keys("ball-facet (plates)");
-  static const BindingTable<ContactTypeConfig> ball_pebble = contact_keys("ball-pebble (rings)");
+// Calls visit(section, table, member) for every section of SimpleShearConfig, in file order, and
+// contact(section, what, member) for the contact types' sections (lab/contact_config.hpp).
+template <class Config, class Visit, class Contact>
+void for_each_section(Config& c, Visit&& visit, Contact&& contact) {
   visit("specimen", specimen_keys(), c.specimen);
   visit("grading", grading_keys(), c.grading);
-  visit("ball_ball", ball_ball, c.ball_ball);
-  visit("ball_facet", ball_facet, c.ball_facet);
-  visit("ball_pebble", ball_pebble, c.ball_pebble);
+  contact("ball_ball", "ball-ball", c.ball_ball);
+  contact("ball_facet", "ball-facet (plates)", c.ball_facet);
+  contact("ball_pebble", "ball-pebble (rings)", c.ball_pebble);
   visit("rings", rings_keys(), c.rings);
   visit("engine", engine_keys(), c.engine);
   visit("generation", generation_keys(), c.generation);
@@ -249,9 +235,11 @@ void for_each_section(Config& c, Visit&& visit) {
 io::Schema simple_shear_schema() {
   io::Schema schema;
   const SimpleShearConfig defaults;
-  for_each_section(defaults, [&](const std::string& section, const auto& table, const auto& value) {
-    io::add_keys(schema, section, table, value);
-  });
+  for_each_section(
+      defaults, [&](const std::string& section, const auto& table, const auto& value) { io::add_keys(schema, section, table, value); },
+      [&](const std::string& section, const std::string& what, const ContactTypeConfig& value) {
+        add_contact_keys(schema, section, what, value);
+      });
   return schema;
 }
 
@@ -260,9 +248,9 @@ SimpleShearConfig simple_shear_preset(const std::string& preset) {
   auto scale = [](double size, double modulus, double friction, double rolling_friction) {
     SimpleShearConfig c;
     c.grading.scale = size;
-    c.ball_ball.effective_modulus = modulus;
-    c.ball_ball.friction = c.generation.friction.emplace(friction);
-    c.ball_ball.rolling_friction = c.generation.rolling_friction.emplace(rolling_friction);
+    c.ball_ball.set_stiffness(modulus);
+    c.ball_ball.set_friction(c.generation.friction.emplace(friction));
+    c.ball_ball.set_rolling_friction(c.generation.rolling_friction.emplace(rolling_friction));
     return c;
   };
   if (preset == "1D") {
@@ -280,9 +268,13 @@ SimpleShearConfig simple_shear_preset(const std::string& preset) {
 
 std::vector<std::pair<std::string, std::string>> simple_shear_values(const SimpleShearConfig& config) {
   std::vector<std::pair<std::string, std::string>> values;
-  for_each_section(config, [&](const std::string& section, const auto& table, const auto& value) {
-    io::append_values(values, section, table, value);
-  });
+  const SimpleShearConfig defaults;
+  for_each_section(
+      config, [&](const std::string& section, const auto& table, const auto& value) { io::append_values(values, section, table, value); },
+      [&](const std::string& section, const std::string&, const ContactTypeConfig& value) {
+        const ContactTypeConfig& fallback = section == "ball_ball" ? defaults.ball_ball : section == "ball_facet" ? defaults.ball_facet : defaults.ball_pebble;
+        append_contact_values(values, section, value, fallback);
+      });
   return values;
 }
 
@@ -297,9 +289,9 @@ std::vector<std::pair<std::string, std::string>> preset_values(const std::string
 
 SimpleShearConfig simple_shear_config(const io::Config& config) {
   SimpleShearConfig c;
-  for_each_section(c, [&](const std::string& section, const auto& table, auto& value) {
-    io::read_keys(config, section, table, value);
-  });
+  for_each_section(
+      c, [&](const std::string& section, const auto& table, auto& value) { io::read_keys(config, section, table, value); },
+      [&](const std::string& section, const std::string&, ContactTypeConfig& value) { value = read_contact_keys(config, section); });
   c.validate();
   return c;
 }

@@ -30,13 +30,6 @@ ShearCellSpec shear_cell_spec(const SimpleShearConfig& config) {
   return cell;
 }
 
-RollingLinearLaw::Params contact_law(const ContactTypeConfig& c, double friction, double rolling_friction) {
-  auto p = RollingLinearLaw::Params::deformable(c.effective_modulus, c.stiffness_ratio, friction, rolling_friction);
-  p.normal_damping_ratio = c.normal_damping_ratio;
-  p.shear_damping_ratio = c.shear_damping_ratio;
-  return p;
-}
-
 void set_contact_laws(World& world, const SimpleShearConfig& config, double friction, double rolling_friction,
                       bool growing, ModelChange change) {
   auto set = [&](ContactKind kind, std::shared_ptr<const ContactModel> model) {
@@ -45,13 +38,13 @@ void set_contact_laws(World& world, const SimpleShearConfig& config, double fric
     else
       world.set_contact_model(kind, std::move(model));
   };
-  set(ContactKind::BallBall,
-      make_contact_model<RollingLinearLaw>(contact_law(config.ball_ball, friction, rolling_friction), "ball_ball"));
-  auto boundary = [&](const ContactTypeConfig& c) {
-    return growing ? contact_law(c, 0.0, 0.0) : contact_law(c, c.friction, c.rolling_friction);
+  set(ContactKind::BallBall, config.ball_ball.model_with_friction(friction, rolling_friction, "ball_ball"));
+  // The plates and rings are frictionless while the radii grow, so that the expansion packs the specimen.
+  auto boundary = [&](const ContactTypeConfig& c, const char* where) {
+    return growing ? c.model_with_friction(0.0, 0.0, where) : c.model(where);
   };
-  set(ContactKind::BallFacet, make_contact_model<RollingLinearLaw>(boundary(config.ball_facet), "ball_facet"));
-  set(ContactKind::BallPebble, make_contact_model<RollingLinearLaw>(boundary(config.ball_pebble), "ball_pebble"));
+  set(ContactKind::BallFacet, boundary(config.ball_facet, "ball_facet"));
+  set(ContactKind::BallPebble, boundary(config.ball_pebble, "ball_pebble"));
 }
 
 std::vector<double> specimen_diameters(const SimpleShearConfig& config, std::mt19937_64& rng) {

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include <dem/io/config.hpp>
+#include <dem/lab/contact_config.hpp>
 #include <dem/lab/grading.hpp>
 #include <dem/lab/shear_cell.hpp>
 #include <dem/lab/shear_leg.hpp>
@@ -32,18 +33,6 @@ struct SpecimenConfig {
   std::uint64_t seed = 1;   // random seed of the generation
 
   bool operator==(const SpecimenConfig&) const = default;
-};
-
-/// [ball_ball], [ball_facet], [ball_pebble]: the rolling-resistance linear law of one contact type.
-struct ContactTypeConfig {
-  double effective_modulus = 0.0;    // Pa, E*
-  double stiffness_ratio = 1.0;      // -, kn/ks
-  double friction = 0.0;             // -, mu
-  double rolling_friction = 0.0;     // -, mu_r
-  double normal_damping_ratio = 0.0; // -, beta_n
-  double shear_damping_ratio = 0.0;  // -, beta_s
-
-  bool operator==(const ContactTypeConfig&) const = default;
 };
 
 /// [rings]: the stack of clump rings around the specimen.
@@ -156,7 +145,9 @@ struct SimpleShearConfig {
   SpecimenConfig specimen;
   Grading grading = study_grading();
   // contacts: Table 1 of the study, 4D row
-  ContactTypeConfig ball_ball{1.2e7, 1.0, 0.5, 0.4}, ball_facet{2e7, 1.0, 0.9, 0.9}, ball_pebble{2e7, 1.0, 0.1, 0.1};
+  ContactTypeConfig ball_ball = ContactTypeConfig::rolling_linear(1.2e7, 1.0, 0.5, 0.4);
+  ContactTypeConfig ball_facet = ContactTypeConfig::rolling_linear(2e7, 1.0, 0.9, 0.9);
+  ContactTypeConfig ball_pebble = ContactTypeConfig::rolling_linear(2e7, 1.0, 0.1, 0.1);
   RingsConfig rings;
   EngineConfig engine;
   GenerationConfig generation;

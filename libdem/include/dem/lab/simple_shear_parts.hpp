@@ -7,7 +7,6 @@
 #include <random>
 #include <vector>
 
-#include <dem/contact/linear_law.hpp>
 #include <dem/control/servo_wall.hpp>
 #include <dem/core/world.hpp>
 #include <dem/lab/consolidation.hpp>
@@ -25,9 +24,6 @@ WorldSettings world_settings(const SimpleShearConfig& config);
 /// 1.1 times it for fixed rings, which cannot follow a dilating specimen), openings smaller than
 /// the smallest ball.
 ShearCellSpec shear_cell_spec(const SimpleShearConfig& config);
-
-/// The rolling-resistance linear law of a contact type with the given friction coefficients.
-RollingLinearLaw::Params contact_law(const ContactTypeConfig& contact, double friction, double rolling_friction);
 
 /// Whether a model change rebuilds the contact lists (a new law: their history starts fresh) or
 /// keeps them (the same laws with new parameters, World::retune_contact_model).
