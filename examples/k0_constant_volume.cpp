@@ -16,11 +16,11 @@
 
 #include <dem/dem.hpp>
 #include <dem/io/csv.hpp>
-#include <dem/lab/consolidation.hpp>
-#include <dem/lab/grading.hpp>
-#include <dem/lab/radius_expansion.hpp>
-#include <dem/lab/shear_cell.hpp>
-#include <dem/lab/shear_leg.hpp>
+#include <dem/lab/toolkit/consolidation.hpp>
+#include <dem/lab/toolkit/grading.hpp>
+#include <dem/lab/toolkit/radius_expansion.hpp>
+#include <dem/lab/toolkit/shear_cell.hpp>
+#include <dem/lab/toolkit/shear_leg.hpp>
 
 int main(int argc, char** argv) {
   using namespace dem;

@@ -1,4 +1,4 @@
-// A protocol's history from Python (lab/history_log.hpp, lab/uniformity_probe.hpp): a script
+// A protocol's history from Python (lab/toolkit/history_log.hpp, lab/toolkit/uniformity_probe.hpp): a script
 // registers its columns by name with the Python function that measures each, the C++ parts add
 // theirs (the uniformity probe, the rings), and record() writes the row and saves the file. The
 // parts keep references to the World and the cell they measure, so the log keeps them alive.
@@ -9,9 +9,9 @@
 #include <pybind11/stl/filesystem.h>
 
 #include <dem/core/world.hpp>
-#include <dem/lab/history_log.hpp>
-#include <dem/lab/shear_cell.hpp>
-#include <dem/lab/uniformity_probe.hpp>
+#include <dem/lab/toolkit/history_log.hpp>
+#include <dem/lab/toolkit/shear_cell.hpp>
+#include <dem/lab/toolkit/uniformity_probe.hpp>
 
 #include "bindings.hpp"
 
@@ -20,7 +20,7 @@ namespace py = pybind11;
 namespace dem::python {
 
 void bind_history(py::module_& m) {
-  py::class_<lab::HistoryLog>(m, "HistoryLog", "history.csv whose columns the parts register by name (lab/history_log.hpp)")
+  py::class_<lab::HistoryLog>(m, "HistoryLog", "history.csv whose columns the parts register by name (lab/toolkit/history_log.hpp)")
       .def(py::init<std::filesystem::path>(), py::arg("file"), "Written by every record(); nothing is written before the first")
       .def("add", py::overload_cast<std::string, std::function<double()>>(&lab::HistoryLog::add), py::arg("name"), py::arg("value"),
            "One column: value() is called at every row")

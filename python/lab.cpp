@@ -11,8 +11,8 @@
 
 #include <dem/core/errors.hpp>
 #include <dem/io/csv.hpp>
-#include <dem/lab/cyclic_shear.hpp>
-#include <dem/lab/simple_shear.hpp>
+#include <dem/lab/protocols/cyclic_shear.hpp>
+#include <dem/lab/protocols/simple_shear.hpp>
 
 #include "bindings.hpp"
 
@@ -90,8 +90,9 @@ struct CyclicShear {
       cyclic[py::str(key.rfind("cyclic.", 0) == 0 ? key : "cyclic." + key)] = v;
     }
     apply(config, cyclic, "");
-    test = std::make_unique<lab::CyclicShearTest>(*specimen.test, lab::cyclic_shear_config(config),
-                                                  quiet ? static_cast<std::ostream&>(quiet_log) : std::cout);
+    (void)quiet;  // the specimen's run holds the log
+    test = std::make_unique<lab::CyclicShearTest>(specimen.test->resumable_run(), specimen.test->specimen(),
+                                                  lab::cyclic_shear_config(config));
   }
 };
 

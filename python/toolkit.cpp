@@ -1,6 +1,6 @@
-// The lab toolkit from Python: the parts a protocol is written from (lab/shear_cell.hpp,
-// lab/radius_expansion.hpp, lab/friction_schedule.hpp, lab/consolidation.hpp, lab/shear_leg.hpp,
-// lab/grading.hpp, lab/cyclic_path.hpp), on a World the script owns. The names and fields are the C++ ones; random
+// The lab toolkit from Python: the parts a protocol is written from (lab/toolkit/shear_cell.hpp,
+// lab/toolkit/radius_expansion.hpp, lab/toolkit/friction_schedule.hpp, lab/toolkit/consolidation.hpp, lab/toolkit/shear_leg.hpp,
+// lab/toolkit/grading.hpp, lab/toolkit/cyclic_path.hpp), on a World the script owns. The names and fields are the C++ ones; random
 // draws go through libdem.Random, the generator the C++ parts take, so that a script and a C++
 // program with the same seed make the same specimen. consolidate() releases the GIL and takes it back only for its callback.
 #include <pybind11/eigen.h>
@@ -13,14 +13,14 @@
 
 #include <dem/control/servo_wall.hpp>
 #include <dem/core/world.hpp>
-#include <dem/lab/consolidation.hpp>
-#include <dem/lab/cyclic_path.hpp>
-#include <dem/lab/friction_schedule.hpp>
-#include <dem/lab/grading.hpp>
-#include <dem/lab/horizontal_drive.hpp>
-#include <dem/lab/radius_expansion.hpp>
-#include <dem/lab/shear_cell.hpp>
-#include <dem/lab/shear_leg.hpp>
+#include <dem/lab/toolkit/consolidation.hpp>
+#include <dem/lab/toolkit/cyclic_path.hpp>
+#include <dem/lab/toolkit/friction_schedule.hpp>
+#include <dem/lab/toolkit/grading.hpp>
+#include <dem/lab/toolkit/horizontal_drive.hpp>
+#include <dem/lab/toolkit/radius_expansion.hpp>
+#include <dem/lab/toolkit/shear_cell.hpp>
+#include <dem/lab/toolkit/shear_leg.hpp>
 
 #include "bindings.hpp"
 
@@ -184,7 +184,7 @@ void bind_loading(py::module_& m) {
       .def_property_readonly("offset", &lab::ShearPath::offset)
       .def_property_readonly("height", &lab::ShearPath::height);
 
-  py::enum_<lab::CyclicShape>(m, "CyclicShape", "The cyclic paths in the horizontal plane (lab/cyclic_path.hpp)")
+  py::enum_<lab::CyclicShape>(m, "CyclicShape", "The cyclic paths in the horizontal plane (lab/toolkit/cyclic_path.hpp)")
       .value("SINE", lab::CyclicShape::Sine)
       .value("CIRCLE", lab::CyclicShape::Circle)
       .value("ELLIPSE", lab::CyclicShape::Ellipse)
@@ -206,7 +206,7 @@ void bind_loading(py::module_& m) {
            py::arg("top"), py::arg("bottom"), py::arg("area"), py::arg("height"), py::arg("stiffness_ratio") = 1.0,
            py::arg("relaxation") = 1.0, py::arg("max_speed"));
   py::class_<lab::HorizontalDrive, std::shared_ptr<lab::HorizontalDrive>>(
-      m, "HorizontalDrive", "The plates' horizontal motion of a cyclic or monotonic stage (lab/horizontal_drive.hpp); call it from a controller")
+      m, "HorizontalDrive", "The plates' horizontal motion of a cyclic or monotonic stage (lab/toolkit/horizontal_drive.hpp); call it from a controller")
       .def(py::init<const lab::HorizontalDriveSettings&>(), py::arg("settings"))
       .def("hold", &lab::HorizontalDrive::hold)
       .def("servo_stress", &lab::HorizontalDrive::servo_stress, py::arg("target"), py::arg("start_step"), py::arg("steps_per_cycle"),

@@ -13,9 +13,9 @@
 
 #include <dem/core/errors.hpp>
 #include <dem/io/csv.hpp>
-#include <dem/lab/calibration.hpp>
-#include <dem/lab/simple_shear_parts.hpp>
-#include <dem/lab/specimen_file.hpp>
+#include <dem/lab/protocols/calibration.hpp>
+#include <dem/lab/toolkit/simple_shear_parts.hpp>
+#include <dem/lab/toolkit/specimen_file.hpp>
 
 #include "support/json.hpp"
 #include "support/temp_dir.hpp"

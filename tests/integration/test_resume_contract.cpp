@@ -11,8 +11,11 @@
 
 #include <dem/core/errors.hpp>
 #include <dem/io/checkpoint.hpp>
-#include <dem/lab/resume_rules.hpp>
-#include <dem/lab/simple_shear.hpp>
+#include <dem/io/csv.hpp>
+#include <dem/lab/toolkit/resume_rules.hpp>
+#include <dem/lab/protocols/calibration.hpp>
+#include <dem/lab/protocols/cyclic_shear.hpp>
+#include <dem/lab/protocols/simple_shear.hpp>
 
 #include "support/json.hpp"
 #include "support/reduced_specimen.hpp"
@@ -67,11 +70,21 @@ using Record = std::vector<std::pair<std::string, std::string>>;
 }  // namespace
 
 TEST_CASE("resume rules: every configuration key has a rule", "[resume]") {
-  const io::Schema schema = simple_shear_schema();
-  for (const io::KeySpec& spec : schema.keys()) {
-    INFO(spec.key);
-    CHECK_NOTHROW(resume_rule(spec.key));
-  }
+  for (const io::Schema& schema : {simple_shear_schema(), cyclic_shear_schema(), calibration_schema()})
+    for (const io::KeySpec& spec : schema.keys()) {
+      INFO(spec.key);
+      CHECK_NOTHROW(resume_rule(schema, spec.key));
+    }
+  // A key declared without one is a programming error, named.
+  io::Schema bare;
+  bare.add({.key = "new.key", .default_value = "1"});
+  CHECK_THROWS_WITH(resume_rule(bare, "new.key"), Contains("new.key") && Contains("fixed column"));
+}
+
+TEST_CASE("resume rules: docs/restart.md shows the table the binding tables declare", "[resume][docs]") {
+  const std::string table = resume_rules_table(cyclic_shear_schema());
+  INFO(table);
+  CHECK(dem::testing::file_text(std::filesystem::path(LIBDEM_SOURCE_DIR) / "docs" / "restart.md").find(table) != std::string::npos);
 }
 
 TEST_CASE("resume rules: what is done is fixed, what is to come and the outputs may change", "[resume]") {
@@ -111,32 +124,37 @@ TEST_CASE("resume rules: what is done is fixed, what is to come and the outputs 
       {"output.restart_every_steps", RunProgress::Generating, false, true},
       {"engine.threads", RunProgress::Shearing, false, true},
       {"engine.max_overlap_ratio", RunProgress::Shearing, false, true},
+      {"ball_ball.law", RunProgress::Generating, false, false},
+      {"cyclic.csr", RunProgress::Consolidated, false, true},  // a consolidated specimen, cycled in another way
+      {"cyclic.csr", RunProgress::Shearing, false, false},     // a cyclic stage under way
+      {"cyclic.max_cycles", RunProgress::Shearing, false, true},
   };
+  const io::Schema schema = cyclic_shear_schema();
   for (const Case& c : cases) {
     INFO(c.key << " at " << to_string(c.progress) << (c.reconsolidate ? " (reconsolidation)" : ""));
     const Record file{{c.key, "1"}}, now{{c.key, "2"}};
     if (c.allowed) {
-      const auto changes = check_resume(file, now, c.progress, c.reconsolidate, "restart file f");
+      const auto changes = check_resume(schema, file, now, c.progress, c.reconsolidate, "restart file f");
       REQUIRE(changes.size() == 1);
       CHECK(changes[0].key == c.key);
       CHECK(changes[0].file_value == "1");
       CHECK(changes[0].new_value == "2");
     } else {
-      CHECK_THROWS_WITH(check_resume(file, now, c.progress, c.reconsolidate, "restart file f"),
+      CHECK_THROWS_WITH(check_resume(schema, file, now, c.progress, c.reconsolidate, "restart file f"),
                         Contains(std::string(c.key) + " = 2 here, 1 in the file") && Contains("restart file f") &&
                             Contains(to_string(c.progress)));
     }
   }
   // A file written before shear.damping_frame existed sheared in the fixed frame: the new default
   // is refused mid-shear, naming the key, and allowed on a consolidated specimen.
-  CHECK_THROWS_WITH(check_resume({{"shear.mode", "drained"}}, {{"shear.mode", "drained"}, {"shear.damping_frame", "plates"}},
+  CHECK_THROWS_WITH(check_resume(schema, {{"shear.mode", "drained"}}, {{"shear.mode", "drained"}, {"shear.damping_frame", "plates"}},
                                  RunProgress::Shearing, false, "f"),
                     Contains("shear.damping_frame = plates here, fixed in the file"));
-  CHECK(check_resume({{"shear.mode", "drained"}}, {{"shear.damping_frame", "fixed"}}, RunProgress::Shearing, false, "f").empty());
-  CHECK(check_resume({{"shear.mode", "drained"}}, {{"shear.damping_frame", "plates"}}, RunProgress::Consolidated, false, "f")
+  CHECK(check_resume(schema, {{"shear.mode", "drained"}}, {{"shear.damping_frame", "fixed"}}, RunProgress::Shearing, false, "f").empty());
+  CHECK(check_resume(schema, {{"shear.mode", "drained"}}, {{"shear.damping_frame", "plates"}}, RunProgress::Consolidated, false, "f")
             .size() == 1);
   // Unchanged keys and keys of another schema version pass without a word.
-  CHECK(check_resume({{"shear.mode", "drained"}, {"old.key", "1"}}, {{"shear.mode", "drained"}, {"new.key", "2"}},
+  CHECK(check_resume(schema, {{"shear.mode", "drained"}, {"old.key", "1"}}, {{"shear.mode", "drained"}, {"new.key", "2"}},
                      RunProgress::Done, false, "f")
             .empty());
 }

@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include <dem/io/csv.hpp>
-#include <dem/lab/simple_shear.hpp>
+#include <dem/lab/protocols/simple_shear.hpp>
 
 #include "support/json.hpp"
 #include "support/reduced_specimen.hpp"

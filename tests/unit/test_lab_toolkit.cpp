@@ -11,13 +11,13 @@
 #include <vector>
 
 #include <dem/contact/linear_law.hpp>
-#include <dem/lab/consolidation.hpp>
-#include <dem/lab/friction_schedule.hpp>
-#include <dem/lab/grading.hpp>
-#include <dem/lab/horizontal_drive.hpp>
-#include <dem/lab/radius_expansion.hpp>
-#include <dem/lab/shear_cell.hpp>
-#include <dem/lab/shear_leg.hpp>
+#include <dem/lab/toolkit/consolidation.hpp>
+#include <dem/lab/toolkit/friction_schedule.hpp>
+#include <dem/lab/toolkit/grading.hpp>
+#include <dem/lab/toolkit/horizontal_drive.hpp>
+#include <dem/lab/toolkit/radius_expansion.hpp>
+#include <dem/lab/toolkit/shear_cell.hpp>
+#include <dem/lab/toolkit/shear_leg.hpp>
 
 using namespace dem;
 using namespace dem::lab;

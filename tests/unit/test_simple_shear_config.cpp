@@ -9,7 +9,7 @@
 
 #include "dem/core/errors.hpp"
 #include "dem/io/config.hpp"
-#include "dem/lab/simple_shear_config.hpp"
+#include "dem/lab/toolkit/simple_shear_config.hpp"
 
 using Catch::Matchers::Contains;
 using namespace dem;
