@@ -16,6 +16,7 @@
 #include <dem/lab/protocols/calibration.hpp>
 #include <dem/lab/protocols/cyclic_shear.hpp>
 #include <dem/lab/protocols/simple_shear.hpp>
+#include <dem/lab/protocols/triaxial.hpp>
 
 #include "support/json.hpp"
 #include "support/reduced_specimen.hpp"
@@ -274,4 +275,61 @@ TEST_CASE("resume: a restart file with the key-value protocol lines of earlier v
   }
   CHECK(histories[0].size() > 1000);
   CHECK(histories[0] == histories[1]);
+}
+
+TEST_CASE("triaxial: the protocol's keys, a drained test that holds the confining stress, and a resume in each stage",
+          "[resume][triaxial]") {
+  io::Config keys(triaxial_schema());
+  keys.set("specimen.balls_per_side", "6");
+  keys.set("axial.target_strain", "0.01");
+  keys.set("axial.every_strain", "0.001");
+  keys.set("output.restart_every_steps", "400");
+  keys.set("engine.threads", "1");
+  const TriaxialConfig config = triaxial_config(keys);
+  const auto run_to_end = [&](const std::filesystem::path& dir, const std::filesystem::path& from, std::int64_t stop_at_step) {
+    std::ostringstream log;
+    TriaxialTest test(config, dir, log);
+    test.record_configuration(keys);
+    if (stop_at_step > 0)  // a kill at that step, as far as the files can tell
+      test.world().add_controller([stop_at_step](World& w) {
+        if (w.step_count() == stop_at_step) throw std::runtime_error("stopped");
+      });
+    if (!from.empty()) test.load_restart(from);
+    test.run();
+    test.write_summary(keys.to_json());
+  };
+  const std::filesystem::path whole = fresh_dir("triaxial_whole");
+  run_to_end(whole, {}, 0);
+  const io::CsvData rows = io::read_csv(whole / "history.csv");
+  REQUIRE(rows.rows.size() >= 8);
+  // Drained: the lateral walls hold the confining stress within the servo's tolerance while the
+  // axial stress rises; p and q as defined from the walls' stresses.
+  for (const auto& r : rows.rows) {
+    CHECK(r[rows.column("sigma_radial")] == Approx(100e3).epsilon(0.05));
+    const double a = r[rows.column("sigma_axial")], lateral = r[rows.column("sigma_radial")];
+    CHECK(r[rows.column("mean_stress")] == Approx((a + 2 * lateral) / 3).epsilon(1e-12));
+    CHECK(r[rows.column("deviator_stress")] == Approx(a - lateral).epsilon(1e-12).margin(1e-9));
+  }
+  CHECK(rows.rows.back()[rows.column("axial_strain")] >= 0.01);
+  CHECK(rows.rows.back()[rows.column("deviator_stress")] > 0.3 * 100e3);
+  // Stopped in the isotropic and in the axial stage, resumed from restart.restart: the same history.
+  const std::int64_t isotropic_end = static_cast<std::int64_t>(rows.rows.front()[rows.column("step")]);
+  const std::int64_t axial_middle = static_cast<std::int64_t>(rows.rows[rows.rows.size() / 2][rows.column("step")]);
+  for (const std::int64_t stop : {isotropic_end / 2 + 3, axial_middle + 3}) {
+    DYNAMIC_SECTION("stopped at step " << stop) {
+      const std::filesystem::path dir = fresh_dir("triaxial_" + std::to_string(stop));
+      CHECK_THROWS_WITH(run_to_end(dir, {}, stop), Contains("stopped"));
+      REQUIRE(std::filesystem::exists(dir / "restart.restart"));
+      run_to_end(dir, dir / "restart.restart", 0);
+      CHECK(dem::testing::file_text(dir / "history.csv") == dem::testing::file_text(whole / "history.csv"));
+    }
+  }
+  // The confining stress is fixed once the isotropic stage has begun: a resume that changes it is refused.
+  io::Config other = keys;
+  other.set("isotropic.confining_stress", "2e5");
+  std::ostringstream log;
+  TriaxialTest test(triaxial_config(other), fresh_dir("triaxial_refused"), log);
+  test.record_configuration(other);
+  CHECK_THROWS_WITH(test.load_restart(whole / "consolidated.restart"),
+                    Contains("isotropic.confining_stress = 2e+05 here, 1e+05 in the file") && !Contains("dem-consolidate"));
 }
