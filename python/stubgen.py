@@ -102,6 +102,9 @@ class Types:
             t = re.sub(r"\bos\.PathLike\b", "typing.Union[str, os.PathLike[str]]" if argument else "os.PathLike[str]", t)
             self.imports.add("import typing")
         t = re.sub(r"\bfunction\b", "typing.Callable[..., typing.Any]", t)
+        # a py::dict or py::list: the docstring says what it holds
+        t = re.sub(r"(?<![.\w])dict\b(?!\[)", "typing.Dict[str, typing.Any]", t)
+        t = re.sub(r"(?<![.\w])list\b(?!\[)", "typing.List[typing.Any]", t)
         for name in ("List", "Dict", "Tuple", "Optional", "Callable", "Union", "Sequence", "Iterable", "Iterator", "Any"):
             if re.search(r"(?<![.\w])" + name + r"\b", t):
                 self.imports.add("import typing")
@@ -186,7 +189,8 @@ def overloads(function, name, types, where):
     return [(Signature(lines[0], types, where), "\n".join(lines[1:]))]
 
 
-def function_stub(function, name, types, where, indent, kind):
+def function_stub(function, name, types, where, indent, kind, overrides=False):
+    """`overrides`: a base class has the name with another signature (a type checker is told so)."""
     out = []
     found = overloads(function, name, types, where)
     for signature, doc in found:
@@ -199,7 +203,7 @@ def function_stub(function, name, types, where, indent, kind):
         head = signature.render(name, decorators, "method" if kind == "method" else "function")
         body = docstring_lines(doc, indent + INDENT)
         out += [indent + line for line in head[:-1]]
-        out.append(indent + head[-1] + ("" if body else " ..."))
+        out.append(indent + head[-1] + ("" if body else " ...") + ("  # type: ignore[override]" if overrides else ""))
         out += body
     return out
 
@@ -235,6 +239,10 @@ def is_enum(cls):
     return isinstance(members, dict) and bool(members) and all(isinstance(v, cls) for v in members.values())
 
 
+def overrides(cls, name):
+    return any(name in vars(base) for base in cls.__mro__[1:] if base.__module__ == MODULE)
+
+
 def class_stub(cls, types, indent=""):
     bases = [b for b in cls.__bases__ if b.__name__ != "pybind11_object" and b is not object]
     names = [b.__name__ if b.__module__ in (MODULE, "builtins") else f"{b.__module__}.{b.__name__}" for b in bases]
@@ -260,9 +268,9 @@ def class_stub(cls, types, indent=""):
         elif isinstance(value, property):
             out += property_stub(value, name, types, where, inner)
         elif isinstance(value, staticmethod):
-            out += function_stub(value.__func__, name, types, where, inner, "static")
+            out += function_stub(value.__func__, name, types, where, inner, "static", overrides(cls, name))
         elif is_pybind_function(value):
-            out += function_stub(value, name, types, where, inner, "method")
+            out += function_stub(value, name, types, where, inner, "method", overrides(cls, name) and name not in DUNDERS)
         else:
             raise StubError(f"{where}: a {type(value).__name__}, which the stubs do not know how to write")
     if len(out) == 1:
