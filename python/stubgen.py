@@ -75,6 +75,28 @@ def matching_paren(text, start):
     raise StubError(f"unbalanced signature: {text!r}")
 
 
+def strip_annotated(t):
+    """Annotated[X, ...] as X (pybind11 2.12 on spells a std::array Annotated[list[int], FixedSize(3)])."""
+    while True:
+        found = re.search(r"(?<![\w])(?:typing\.)?Annotated\[", t)
+        if not found:
+            return t
+        open_at = found.end() - 1
+        depth, close_at = 0, None
+        for i in range(open_at, len(t)):
+            if t[i] in "[(":
+                depth += 1
+            elif t[i] in "])":
+                depth -= 1
+            if depth == 0:
+                close_at = i
+                break
+        if close_at is None:
+            raise StubError(f"unbalanced type: {t!r}")
+        inner = split_top_level(t[open_at + 1:close_at])[0]
+        t = t[:found.start()] + inner + t[close_at + 1:]
+
+
 class Types:
     """pybind11's spelling of a type (in a signature) as a type a stub can hold."""
 
@@ -83,7 +105,7 @@ class Types:
         self.imports = set()
 
     def python(self, spelled, where, argument):
-        t = spelled.strip()
+        t = strip_annotated(spelled.strip())
         # Eigen and NumPy arrays: numpy.ndarray[numpy.float64[3, 1]], numpy.ndarray[numpy.int64], numpy.ndarray
         def array(m):
             dtype = m.group(1)
@@ -102,6 +124,7 @@ class Types:
             t = re.sub(r"\bos\.PathLike\b", "typing.Union[str, os.PathLike[str]]" if argument else "os.PathLike[str]", t)
             self.imports.add("import typing")
         t = re.sub(r"\bfunction\b", "typing.Callable[..., typing.Any]", t)
+        t = re.sub(r"(?<![.\w])Callable\b(?!\[)", "Callable[..., Any]", t)  # pybind11 2.12 on: a py::function
         # a py::dict or py::list: the docstring says what it holds
         t = re.sub(r"(?<![.\w])dict\b(?!\[)", "typing.Dict[str, typing.Any]", t)
         t = re.sub(r"(?<![.\w])list\b(?!\[)", "typing.List[typing.Any]", t)
