@@ -61,13 +61,14 @@ CyclicShearTest::CyclicShearTest(SimpleShearConfig specimen_config, CyclicShearC
   keep_state();
 }
 
-CyclicShearTest::CyclicShearTest(Run& run, NgiSpecimen& specimen, CyclicShearConfig config)
+CyclicShearTest::CyclicShearTest(Run& run, NgiSpecimen& specimen, CyclicShearConfig config, std::ostream* log)
     : run_(run),
       specimen_(specimen),
       config_(std::move(config)),
       path_(make_path(config_, 1.0)),
       history_(run_.folder() / "cyclic_history.csv"),
       cycles_(horizontal_direction(config_.direction_deg), static_cast<int>(config_.rows_per_cycle)) {
+  if (log) run_.set_log(*log);
   keep_state();
 }
 

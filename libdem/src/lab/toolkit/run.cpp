@@ -49,7 +49,7 @@ void copy_carried(const std::filesystem::path& from, const std::filesystem::path
 }  // namespace
 
 Run::Run(std::unique_ptr<World> world, std::filesystem::path folder, RunFiles files, std::ostream& log)
-    : world_(std::move(world)), folder_(std::move(folder)), files_(std::move(files)), log_(log) {
+    : world_(std::move(world)), folder_(std::move(folder)), files_(std::move(files)), log_(&log) {
   require(world_ != nullptr, "Run: world", "null", "a World");
   keep("last_restart_step", last_restart_step_);
   keep("wall_seconds", wall_seconds_);
@@ -66,9 +66,9 @@ void Run::claim(const OutputOptions& options) {
   policy.replace_option = options.replace_option;
   policy.program = options.program;
   folder_claim_ = std::make_unique<io::OutputFolder>(folder_, policy);
-  for (const std::string& name : folder_claim_->replaced()) log_ << "removed " << (folder_ / name).string() << " of the run the folder held\n";
+  for (const std::string& name : folder_claim_->replaced()) *log_ << "removed " << (folder_ / name).string() << " of the run the folder held\n";
   if (folder_claim_->leftovers_removed() > 0)
-    log_ << "removed " << folder_claim_->leftovers_removed() << " temporary file(s) left by a killed run\n";
+    *log_ << "removed " << folder_claim_->leftovers_removed() << " temporary file(s) left by a killed run\n";
   if (loaded() && !own) copy_carried(loaded_from_, folder_, files_.carried);
   for (const auto& f : on_claim_) f();
 }
@@ -167,7 +167,7 @@ void Run::record_configuration(const io::Config& resolved) {
 }
 
 void Run::note_change(const std::string& key, const std::string& file_value, const std::string& new_value) {
-  log_ << "applied " << key << " = " << new_value << " (the restart file had " << file_value << ")\n";
+  *log_ << "applied " << key << " = " << new_value << " (the restart file had " << file_value << ")\n";
   changes_.push_back({key, file_value, new_value});
 }
 
@@ -176,13 +176,13 @@ void Run::progress(const std::string& stage, const std::string& detail, double d
   if (stage != pace_stage_) pace_stage_ = stage, pace_start_seconds_ = now, pace_start_done_ = done;
   if (now - last_progress_ < progress_every_) return;
   last_progress_ = now;
-  log_ << "[" << stage << "] " << detail;
+  *log_ << "[" << stage << "] " << detail;
   if (total >= 0.0) {
     // Time left from this session's own pace in the stage, over what is still to do.
     const double progressed = done - pace_start_done_, left = std::max(0.0, total - done);
-    log_ << ", " << (progressed > 0 ? (now - pace_start_seconds_) * left / progressed : 0.0) << " s left";
+    *log_ << ", " << (progressed > 0 ? (now - pace_start_seconds_) * left / progressed : 0.0) << " s left";
   }
-  log_ << std::endl;
+  *log_ << std::endl;
 }
 
 }  // namespace dem::lab

@@ -78,7 +78,8 @@ class CyclicShearTest {
   CyclicShearTest(SimpleShearConfig specimen_config, CyclicShearConfig config, std::filesystem::path out_dir, std::ostream& log);
   /// The cyclic stages on a specimen made by another protocol in `run` (its folder, its restart
   /// files); both must outlive the test, and the specimen must be consolidated when run() starts.
-  CyclicShearTest(Run& run, NgiSpecimen& specimen, CyclicShearConfig config);
+  /// With `log`, the run's lines go there from now on (it must outlive the run).
+  CyclicShearTest(Run& run, NgiSpecimen& specimen, CyclicShearConfig config, std::ostream* log = nullptr);
   ~CyclicShearTest();
   CyclicShearTest(const CyclicShearTest&) = delete;
   CyclicShearTest& operator=(const CyclicShearTest&) = delete;

@@ -61,7 +61,9 @@ class Run {
 
   World& world() { return *world_; }
   const World& world() const { return *world_; }
-  std::ostream& log() const { return log_; }
+  std::ostream& log() const { return *log_; }
+  /// Where progress lines and notes go from now on (`log` must outlive the run).
+  void set_log(std::ostream& log) { log_ = &log; }
   const std::filesystem::path& folder() const { return folder_; }
 
   // --- the output folder --------------------------------------------------------------------
@@ -144,7 +146,7 @@ class Run {
   std::unique_ptr<World> world_;
   std::filesystem::path folder_;
   RunFiles files_;
-  std::ostream& log_;
+  std::ostream* log_;
   std::unique_ptr<io::OutputFolder> folder_claim_;
   std::vector<Kept> kept_;
   std::vector<std::pair<std::string, std::vector<Vec3>*>> kept_points_;
