@@ -170,18 +170,18 @@ void bind_specimen(py::module_& m) {
 
 void bind_loading(py::module_& m) {
   py::class_<lab::ConsolidationTarget>(m, "ConsolidationTarget", "Where to take the servo plate, and when to stop")
-      .def(py::init([](double stress, double servo_max_speed, double equilibrium_ratio, std::int64_t max_steps, std::int64_t chunk_steps) {
-             return lab::ConsolidationTarget{stress, servo_max_speed, equilibrium_ratio, max_steps, chunk_steps};
+      .def(py::init([](double vertical_stress, double servo_max_speed, double equilibrium_ratio, std::int64_t max_steps, std::int64_t chunk_steps) {
+             return lab::ConsolidationTarget{vertical_stress, servo_max_speed, equilibrium_ratio, max_steps, chunk_steps};
            }),
-           py::arg("stress"), py::arg("servo_max_speed") = 0.05, py::arg("equilibrium_ratio") = 1e-2,
+           py::arg("vertical_stress"), py::arg("servo_max_speed") = 0.05, py::arg("equilibrium_ratio") = 1e-2,
            py::arg("max_steps") = 400000, py::arg("chunk_steps") = 10,
            "Args:\n"
-           "    stress: on the servo plate (Pa).\n"
+           "    vertical_stress: on the servo plate (Pa), the key consolidation.vertical_stress.\n"
            "    servo_max_speed: cap of the plate's speed (m/s).\n"
            "    equilibrium_ratio: unbalanced over mean contact force at which the packing counts as settled (-).\n"
            "    max_steps: steps after which the consolidation stops unsettled.\n"
            "    chunk_steps: steps between two checks.")
-      .def_readwrite("stress", &lab::ConsolidationTarget::stress, "Stress on the servo plate (Pa)")
+      .def_readwrite("vertical_stress", &lab::ConsolidationTarget::vertical_stress, "Stress on the servo plate (Pa)")
       .def_readwrite("servo_max_speed", &lab::ConsolidationTarget::servo_max_speed, "Cap of the plate's speed (m/s)")
       .def_readwrite("equilibrium_ratio", &lab::ConsolidationTarget::equilibrium_ratio,
                      "Unbalanced over mean contact force at which the packing counts as settled (-)")

@@ -3,7 +3,7 @@
 namespace dem::lab {
 
 void start_consolidation(ServoWall& servo, const ConsolidationTarget& target) {
-  servo.set_target(target.stress);
+  servo.set_target(target.vertical_stress);
   servo.set_max_speed(target.servo_max_speed);
 }
 

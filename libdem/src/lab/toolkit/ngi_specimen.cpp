@@ -252,7 +252,7 @@ void NgiSpecimen::consolidate() {
     run_.save_if_due();
     std::ostringstream detail;
     detail << "step " << world_.step_count() << ", vertical stress " << servo_->achieved_stress() / 1e3 << " kPa (target "
-           << target.stress / 1e3 << "), unbalanced ratio " << world_.unbalanced_force_ratio();
+           << target.vertical_stress / 1e3 << "), unbalanced ratio " << world_.unbalanced_force_ratio();
     run_.progress("consolidation", detail.str());
   });
   consolidating_ = false;

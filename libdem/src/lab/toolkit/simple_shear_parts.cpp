@@ -81,7 +81,7 @@ FrictionSchedule generation_friction_schedule(const SimpleShearConfig& config) {
 
 ConsolidationTarget consolidation_target(const SimpleShearConfig& config, std::int64_t chunk_steps) {
   ConsolidationTarget target;
-  target.stress = config.consolidation.vertical_stress;
+  target.vertical_stress = config.consolidation.vertical_stress;
   target.servo_max_speed = config.consolidation.servo_max_speed;
   target.equilibrium_ratio = config.generation.equilibrium_ratio;
   target.max_steps = config.consolidation.max_steps;

@@ -13,7 +13,7 @@ namespace dem::lab {
 
 /// Where to take the servo plate, and when to stop.
 struct ConsolidationTarget {
-  double stress = 200e3;             // Pa, on the servo plate
+  double vertical_stress = 200e3;    // Pa, on the servo plate (consolidation.vertical_stress)
   double servo_max_speed = 0.05;     // m/s, cap of the plate's speed
   double equilibrium_ratio = 1e-2;   // -, unbalanced / mean contact force at which the packing counts as settled
   std::int64_t max_steps = 400000;   // steps after which the consolidation stops unsettled
