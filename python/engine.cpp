@@ -16,6 +16,7 @@
 
 #include <dem/boundary/clump_ring.hpp>
 #include <dem/control/servo_wall.hpp>
+#include <dem/contact/law_registry.hpp>
 #include <dem/contact/linear_law.hpp>
 #include <dem/core/errors.hpp>
 #include <dem/core/world.hpp>
@@ -211,6 +212,25 @@ void bind_engine(py::module_& m) {
       .def_property_readonly("triangles", [](const geometry::TriangleMesh& mesh) { return mesh.triangles; },
                              "Each triangle's three vertex indices; its normal follows the right-hand rule")
       .def("area", &geometry::TriangleMesh::area, "Sum of the triangle areas (m^2)");
+  m.def("contact_laws", [] {
+    py::list laws;
+    for (const LawEntry& law : contact_laws()) {
+      py::dict row, parameters;
+      row["keyword"] = law.keyword;
+      row["summary"] = law.summary;
+      for (const LawParameter& p : law.parameters) {
+        py::dict d;
+        d["unit"] = p.unit;
+        d["default"] = p.default_value;
+        d["help"] = p.help;
+        parameters[py::str(p.name)] = d;
+      }
+      row["parameters"] = parameters;
+      laws.append(row);
+    }
+    return laws;
+  }, "The contact laws by keyword (contact/law_registry.hpp): a list of {'keyword', 'summary', 'parameters':\n"
+     "{name: {'unit', 'default', 'help'}}}, the first the default of every contact type.");
   m.def("make_disc", &geometry::make_disc, py::arg("centre"), py::arg("radius"), py::arg("normal"), py::arg("segments") = 24,
         "A flat disc of triangles fanned around its centre (a plate).\n\n"
         "Args:\n"
@@ -420,6 +440,32 @@ void bind_engine(py::module_& m) {
            "    kind: a ContactKind.\n"
            "    params: its parameters (ValueError names a bad one).\n"
            "    name: for messages and outputs.")
+      .def("set_contact_law",
+           [](World& w, ContactKind kind, const std::string& law, const py::dict& parameters, const std::string& name) {
+             // The registry's row, its parameters at their defaults, then the given ones (each one named).
+             const LawEntry& entry = contact_law(law, "law");
+             LawValues values(entry.parameters);
+             for (const auto& [key, value] : parameters) {
+               const std::string k = key.cast<std::string>();
+               if (!values.has(k)) {
+                 std::string known;
+                 for (const LawParameter& p : entry.parameters) known += (known.empty() ? "" : ", ") + p.name;
+                 throw InputError(name + "." + k + ": not a parameter of contact law " + law + " (its parameters: " + known + ")");
+               }
+               values.set(k, value.cast<double>());
+             }
+             w.set_contact_model(kind, entry.bind(values, name));
+           },
+           py::arg("kind"), py::arg("law"), py::arg("parameters") = py::dict(), py::arg("name") = "contact",
+           "Sets a contact kind's law by its keyword, as the apps' `<type>.law` key does (contact_laws() lists them).\n\n"
+           "Args:\n"
+           "    kind: a ContactKind.\n"
+           "    law: the keyword, e.g. 'rrlinear' or 'linear'.\n"
+           "    parameters: {name: value} in SI units (e.g. {'effective_modulus': 1e8, 'friction': 0.5}); the others\n"
+           "        keep the registry's defaults.\n"
+           "    name: for messages.\n\n"
+           "Raises:\n"
+           "    ValueError: an unknown law or parameter, or a value the law cannot use, named.")
       .def("contact_law", [](const World& w, ContactKind kind) {
              const ContactModel* model = w.contact_model(kind);
              return model ? std::string(model->law_name()) : std::string();
