@@ -2,6 +2,7 @@
 // may not change what the file already holds, may change the rest (recorded in summary.json), and
 // a refused resume touches nothing in its output folder. Reduced specimen (about 170 balls).
 #include <catch2/catch.hpp>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -39,7 +40,7 @@ io::Config small_config() {
 }
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("libdem_resume_" + name);
+  const fs::path dir = fs::temp_directory_path() / ("libdem_resume_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   return dir;
 }

@@ -1,6 +1,7 @@
 // The simple-shear protocol end to end on a reduced specimen (30 mm x 12 mm, 4D balls: about 170
 // balls): outputs, their consistency, determinism and restart equality.
 #include <catch2/catch.hpp>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -32,7 +33,7 @@ io::Config small_config() {
 }
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("libdem_shear_" + name);
+  const fs::path dir = fs::temp_directory_path() / ("libdem_shear_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   return dir;
 }
