@@ -16,11 +16,11 @@
 
 #include <dem/dem.hpp>
 #include <dem/io/csv.hpp>
-#include <dem/lab/consolidation.hpp>
-#include <dem/lab/grading.hpp>
-#include <dem/lab/radius_expansion.hpp>
-#include <dem/lab/shear_cell.hpp>
-#include <dem/lab/shear_leg.hpp>
+#include <dem/lab/toolkit/consolidation.hpp>
+#include <dem/lab/toolkit/grading.hpp>
+#include <dem/lab/toolkit/radius_expansion.hpp>
+#include <dem/lab/toolkit/shear_cell.hpp>
+#include <dem/lab/toolkit/shear_leg.hpp>
 
 int main(int argc, char** argv) {
   using namespace dem;
@@ -90,7 +90,7 @@ int main(int argc, char** argv) {
   servo = std::make_unique<ServoWall>(cell.top, ServoSettings{.target_stress = 50e3, .max_speed = 0.05, .settle_steps = 300});
   std::printf("%12s %12s %12s %8s %10s\n", "sigma_v [kPa]", "sigma_h [kPa]", "height [mm]", "K0", "settled");
   for (const double stress : {50e3, 100e3, 200e3}) {
-    const lab::ConsolidationTarget target{.stress = stress, .max_steps = 200000};
+    const lab::ConsolidationTarget target{.vertical_stress = stress, .max_steps = 200000};
     lab::start_consolidation(*servo, target);
     const lab::ConsolidationReport report = lab::consolidate(world, *servo, target, world.step_count());
     const double lateral = lab::ring_lateral_stress(world, cell);

@@ -5,6 +5,7 @@
 
 namespace dem::python {
 
+void bind_contact_laws(pybind11::module_& m);  // the linear laws' parameters, the registry of laws by keyword (from bind_engine)
 void bind_engine(pybind11::module_& m);   // World, particles, laws, walls, clumps, rings, servo, measurement
 void bind_toolkit(pybind11::module_& m);  // the lab toolkit's parts: cell, radius expansion, consolidation, shear legs
 void bind_history(pybind11::module_& m);  // the history log and the parts that add its columns

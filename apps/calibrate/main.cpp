@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include <dem/core/errors.hpp>
-#include <dem/lab/calibration.hpp>
+#include <dem/lab/protocols/calibration.hpp>
 
 #include "cli/calibration_command_line.hpp"
 #include "cli/task_farm.hpp"

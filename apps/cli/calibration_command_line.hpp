@@ -8,7 +8,7 @@
 #include <optional>
 
 #include <dem/io/config.hpp>
-#include <dem/lab/calibration.hpp>
+#include <dem/lab/protocols/calibration.hpp>
 
 namespace dem::cli {
 

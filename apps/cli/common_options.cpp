@@ -1,15 +1,16 @@
 #include "common_options.hpp"
 
 #include <dem/core/errors.hpp>
-#include <dem/lab/simple_shear_config.hpp>
+#include <dem/lab/toolkit/simple_shear_config.hpp>
 
 namespace po = boost::program_options;
 
 namespace dem::cli {
 
 void add_common_options(po::options_description& opts, const std::string& preset_help, const std::string& config_help, const std::string& set_example) {
-  opts.add_options()("help,h", "print this help and every configuration key")(
-      "preset", po::value<std::string>()->default_value("4D"), preset_help.c_str())(
+  opts.add_options()("help,h", "print this help and every configuration key");
+  if (!preset_help.empty()) opts.add_options()("preset", po::value<std::string>()->default_value("4D"), preset_help.c_str());
+  opts.add_options()(
       "config,c", po::value<std::string>(), config_help.c_str())(
       "set,s", po::value<std::vector<std::string>>()->composing(), ("override one key, e.g. --set " + set_example + " (repeatable)").c_str())(
       "threads", po::value<int>(), "OpenMP threads (same as --set engine.threads=N; default OMP_NUM_THREADS)")(
@@ -29,7 +30,8 @@ po::variables_map parse_options(int argc, char** argv, const po::options_descrip
 
 io::Config resolve_config(io::Schema schema, const po::variables_map& vm) {
   io::Config config(std::move(schema));
-  for (const auto& [key, value] : lab::preset_values(vm["preset"].as<std::string>())) config.set(key, value);
+  if (vm.count("preset"))
+    for (const auto& [key, value] : lab::preset_values(vm["preset"].as<std::string>())) config.set(key, value);
   if (vm.count("config")) config.load_file(vm["config"].as<std::string>());
   if (vm.count("set"))
     for (const std::string& assignment : vm["set"].as<std::vector<std::string>>()) config.set(assignment);

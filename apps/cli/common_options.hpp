@@ -10,7 +10,8 @@
 
 namespace dem::cli {
 
-/// Adds --help, --preset, --config, --set, --threads and --print-config.
+/// Adds --help, --preset (unless `preset_help` is empty: a protocol without presets), --config,
+/// --set, --threads and --print-config.
 void add_common_options(boost::program_options::options_description& opts, const std::string& preset_help,
                         const std::string& config_help, const std::string& set_example);
 

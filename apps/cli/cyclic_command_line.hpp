@@ -5,7 +5,7 @@
 #include <iosfwd>
 #include <optional>
 
-#include <dem/lab/cyclic_shear_config.hpp>
+#include <dem/lab/protocols/cyclic_shear_config.hpp>
 
 #include "shear_command_line.hpp"
 

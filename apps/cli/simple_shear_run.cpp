@@ -3,8 +3,8 @@
 #include <memory>
 #include <ostream>
 
-#include <dem/lab/shear_cell.hpp>
-#include <dem/lab/simple_shear.hpp>
+#include <dem/lab/toolkit/shear_cell.hpp>
+#include <dem/lab/protocols/simple_shear.hpp>
 
 namespace dem::cli {
 

@@ -11,8 +11,8 @@
 #include <string>
 
 #include <dem/core/errors.hpp>
-#include <dem/lab/shear_cell.hpp>
-#include <dem/lab/simple_shear.hpp>
+#include <dem/lab/toolkit/shear_cell.hpp>
+#include <dem/lab/protocols/simple_shear.hpp>
 
 #include "cli/shear_command_line.hpp"
 #include "cli/spread_run.hpp"

@@ -5,7 +5,7 @@
 #include <iostream>
 
 #include <dem/core/errors.hpp>
-#include <dem/lab/cyclic_shear.hpp>
+#include <dem/lab/protocols/cyclic_shear.hpp>
 
 #include "cli/cyclic_command_line.hpp"
 #include "cli/task_farm.hpp"
@@ -17,14 +17,10 @@ int main(int argc, char** argv) {
     dem::cli::require_one_process("dem-cyclic-shear");
     dem::lab::check_cyclic_inputs(cli->cyclic);  // before minutes of generation
     const dem::cli::ShearCommandLine& run = cli->specimen;
-    dem::lab::SimpleShearTest specimen(run.config, run.out_dir, std::cout);
-    specimen.record_configuration(*run.configuration);
-    if (!run.from.empty()) specimen.load_restart(run.from);
-    specimen.open_outputs({.replace = run.replace, .program = "dem-cyclic-shear",
-                           .more_run_files = dem::lab::CyclicShearTest::run_files()});
-    if (specimen.stage() == dem::lab::ShearStage::Empty) specimen.generate();
-    if (specimen.stage() == dem::lab::ShearStage::Generated) specimen.consolidate();
-    dem::lab::CyclicShearTest test(specimen, cli->cyclic, std::cout);
+    dem::lab::CyclicShearTest test(run.config, cli->cyclic, run.out_dir, std::cout);
+    test.record_configuration(*run.configuration);
+    if (!run.from.empty()) test.load_restart(run.from);
+    test.open_outputs({.replace = run.replace, .program = "dem-cyclic-shear"});
     test.run();
     test.write_summary(run.resolved_json);
     std::cout << "results in " << run.out_dir.string()

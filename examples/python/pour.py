@@ -2,7 +2,8 @@
 """The smallest libdem program in Python: 600 balls poured into an open box under gravity, with
 the kinetic energy printed as the pile settles (examples/hello_pour.cpp, from Python).
 
-Run: PYTHONPATH=build/python /usr/bin/python3 examples/python/pour.py [steps per line]
+Run: .venv/bin/python examples/python/pour.py [steps per line] (the package installed as the README's
+"From Python" says), or PYTHONPATH=build/python /usr/bin/python3 examples/python/pour.py
 """
 
 import sys

@@ -9,7 +9,7 @@
 #include <string_view>
 
 #include <dem/io/config.hpp>
-#include <dem/lab/simple_shear_config.hpp>
+#include <dem/lab/toolkit/simple_shear_config.hpp>
 
 #include "fuzz_support.hpp"
 

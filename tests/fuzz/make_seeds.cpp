@@ -12,7 +12,7 @@
 
 #include <dem/io/config.hpp>
 #include <dem/io/csv.hpp>
-#include <dem/lab/simple_shear_config.hpp>
+#include <dem/lab/toolkit/simple_shear_config.hpp>
 
 #include "checkpoint_world.hpp"
 #include "fuzz_support.hpp"

@@ -13,9 +13,9 @@
 
 #include <dem/core/errors.hpp>
 #include <dem/io/csv.hpp>
-#include <dem/lab/calibration.hpp>
-#include <dem/lab/simple_shear_parts.hpp>
-#include <dem/lab/specimen_file.hpp>
+#include <dem/lab/protocols/calibration.hpp>
+#include <dem/lab/toolkit/simple_shear_parts.hpp>
+#include <dem/lab/toolkit/specimen_file.hpp>
 
 #include "support/json.hpp"
 #include "support/temp_dir.hpp"
@@ -217,7 +217,7 @@ TEST_CASE("calibration: a trial shears its own E*'s consolidated specimen, loade
   const TempDir temp("trial");
   std::ostringstream log;
   const SimpleShearConfig config = simple_shear_config(small_config());
-  const double start = config.ball_ball.effective_modulus, other = 1.5 * start;
+  const double start = config.ball_ball.stiffness(), other = 1.5 * start;
   ShearTrials trials(config, temp.path, {}, true, log);
   trials.prepare({start, other}, 1, 1);
   const fs::path generated = temp.path / "specimen" / "generated" / "generated.restart";
@@ -228,7 +228,7 @@ TEST_CASE("calibration: a trial shears its own E*'s consolidated specimen, loade
   // The trial's first row is the state its specimen was consolidated to (the last row the
   // specimen's own run wrote, after consolidating the starting E*'s specimen again at `other`),
   // measured again after the restart file has been loaded: the same bits.
-  const ContactFit fit{other, config.ball_ball.friction, config.ball_ball.rolling_friction};
+  const ContactFit fit{other, config.ball_ball.friction(), config.ball_ball.rolling_friction()};
   const ModelCurve curve = trials.shear(fit, 0.01, 1, 1);
   const io::CsvData trial = io::read_csv(trials.trial_dir(1) / "history.csv");
   const io::CsvData made = io::read_csv(consolidated.parent_path() / "history.csv", io::Missing::Allowed);
@@ -246,7 +246,7 @@ TEST_CASE("calibration: a trial shears its own E*'s consolidated specimen, loade
   // A world of the same configuration takes a consolidated specimen only.
   World world(world_settings(config));
   const ShearCell cell = build_shear_cell(world, shear_cell_spec(config));
-  set_contact_laws(world, config, config.ball_ball.friction, config.ball_ball.rolling_friction, false);
+  set_contact_laws(world, config, config.ball_ball.friction(), config.ball_ball.rolling_friction(), false);
   CHECK_THROWS_WITH(load_consolidated_specimen(generated, world, cell, config, log),
                     Contains(generated.string()) && Contains("stage") && Contains("consolidated"));
   CHECK_THROWS_WITH(restart_stage(consolidated.parent_path()), Contains("is a folder") && Contains("consolidated.restart"));

@@ -10,21 +10,24 @@
 
 #include <dem/core/errors.hpp>
 #include <dem/io/csv.hpp>
-#include <dem/lab/cyclic_shear.hpp>
+#include <dem/lab/protocols/cyclic_shear.hpp>
+#include <dem/lab/protocols/simple_shear.hpp>
 
 #include "support/reduced_specimen.hpp"
 #include "support/temp_dir.hpp"
 
 using namespace dem;
+namespace fs = std::filesystem;
+using Catch::Matchers::Contains;
 using namespace dem::lab;
 
 namespace {
 
-struct Run {
+struct Consolidated {
   dem::testing::TempDir dir;
   std::ostringstream log;
   SimpleShearTest specimen;
-  explicit Run(const std::string& name)
+  explicit Consolidated(const std::string& name)
       : dir(name), specimen(simple_shear_config(dem::testing::reduced_specimen()), dir.path, log) {
     specimen.open_outputs({.more_run_files = CyclicShearTest::run_files()});
     specimen.generate();
@@ -46,13 +49,13 @@ struct Rows {
 }  // namespace
 
 TEST_CASE("cyclic shear: a stress-controlled sine at constant volume holds its amplitude and the height", "[cyclic][integration]") {
-  Run run("cyclic_sine");
+  Consolidated run("cyclic_sine");
   CyclicShearConfig c;
   c.csr = 0.1;
   c.max_cycles = 3;
   c.snapshot_cycles = {3.0, 1.0};
   c.fabric_cycles = {2.0};
-  CyclicShearTest test(run.specimen, c, run.log);
+  CyclicShearTest test(run.specimen.resumable_run(), run.specimen.specimen(), c);
   test.run();
   const double sigma_v0 = test.outcome().vertical_stress_initial, amplitude = c.csr * sigma_v0;
   CHECK(sigma_v0 == Approx(200e3).epsilon(0.01));  // the consolidation's tolerance
@@ -87,12 +90,12 @@ TEST_CASE("cyclic shear: a stress-controlled sine at constant volume holds its a
 }
 
 TEST_CASE("cyclic shear: a circular stress path keeps |tau| while its direction turns once per cycle", "[cyclic][integration]") {
-  Run run("cyclic_circle");
+  Consolidated run("cyclic_circle");
   CyclicShearConfig c;
   c.path = CyclicShape::Circle;
   c.csr = 0.1;
   c.max_cycles = 3;
-  CyclicShearTest test(run.specimen, c, run.log);
+  CyclicShearTest test(run.specimen.resumable_run(), run.specimen.specimen(), c);
   test.run();
   const double amplitude = c.csr * test.outcome().vertical_stress_initial;
   const Rows rows(test.history());
@@ -111,14 +114,14 @@ TEST_CASE("cyclic shear: a circular stress path keeps |tau| while its direction 
 }
 
 TEST_CASE("cyclic shear: strain control follows the path exactly; drained holds the vertical stress", "[cyclic][integration]") {
-  Run run("cyclic_strain");
+  Consolidated run("cyclic_strain");
   CyclicShearConfig c;
   c.control = CyclicControl::Strain;
   c.drainage = CyclicDrainage::Drained;
   c.strain_amplitude = 0.004;
   c.direction_deg = 90.0;
   c.max_cycles = 2;
-  CyclicShearTest test(run.specimen, c, run.log);
+  CyclicShearTest test(run.specimen.resumable_run(), run.specimen.specimen(), c);
   test.run();
   const Rows rows(test.history());
   double trapezoid = 0.0;
@@ -143,7 +146,7 @@ TEST_CASE("cyclic shear: strain control follows the path exactly; drained holds 
 }
 
 TEST_CASE("cyclic shear: each stop criterion ends the run at the first row that meets it", "[cyclic][integration]") {
-  Run run("cyclic_stop");
+  Consolidated run("cyclic_stop");
   run.specimen.save_restart(run.dir.path / "start.restart");
   for (const char* criterion : {"pore pressure ratio", "double-amplitude strain"}) {
     DYNAMIC_SECTION(criterion) {
@@ -157,7 +160,7 @@ TEST_CASE("cyclic shear: each stop criterion ends the run at the first row that 
       const bool by_ru = criterion[0] == 'p';
       c.ru_limit = by_ru ? 0.03 : 0.0;
       c.da_strain_limit = by_ru ? 0.0 : 0.012;
-      CyclicShearTest test(specimen, c, log);
+      CyclicShearTest test(specimen.resumable_run(), specimen.specimen(), c);
       test.run();
       CHECK(test.outcome().stop == criterion);
       const Rows rows(test.history());
@@ -174,7 +177,7 @@ TEST_CASE("cyclic shear: each stop criterion ends the run at the first row that 
 }
 
 TEST_CASE("cyclic shear: a static shear stress is held under the cycles, and the post-cyclic shear adds its strain", "[cyclic][integration]") {
-  Run run("cyclic_static_post");
+  Consolidated run("cyclic_static_post");
   CyclicShearConfig c;
   c.static_csr = 0.05;
   c.static_direction_deg = 90.0;  // across the cycles' direction
@@ -182,7 +185,7 @@ TEST_CASE("cyclic shear: a static shear stress is held under the cycles, and the
   c.max_cycles = 1;
   c.post_strain = 0.01;
   c.post_direction_deg = 0.0;
-  CyclicShearTest test(run.specimen, c, run.log);
+  CyclicShearTest test(run.specimen.resumable_run(), run.specimen.specimen(), c);
   test.run();
   const double sigma_v0 = test.outcome().vertical_stress_initial, held = c.static_csr * sigma_v0;
   const Rows rows(test.history());
@@ -203,14 +206,14 @@ TEST_CASE("cyclic shear: a static shear stress is held under the cycles, and the
 }
 
 TEST_CASE("cyclic shear: a strain series from CSV is followed and ends the stage at its last row", "[cyclic][integration]") {
-  Run run("cyclic_series");
+  Consolidated run("cyclic_series");
   CyclicShearConfig c;
   c.control = CyclicControl::Strain;
   c.path = CyclicShape::Series;
   c.series_file = run.dir.write("path.csv", "cycle,x,y\n0,0,0\n0.5,0.002,0\n1.5,0.002,0.003\n").string();
   c.max_cycles = 10;
   check_cyclic_inputs(c);
-  CyclicShearTest test(run.specimen, c, run.log);
+  CyclicShearTest test(run.specimen.resumable_run(), run.specimen.specimen(), c);
   test.run();
   CHECK(test.outcome().stop == "series end");
   CHECK(test.outcome().cycles == 1.5);
@@ -223,4 +226,56 @@ TEST_CASE("cyclic shear: a strain series from CSV is followed and ends the stage
   }
   c.series_file = (run.dir.path / "missing.csv").string();
   CHECK_THROWS_AS(check_cyclic_inputs(c), InputError);
+}
+
+TEST_CASE("cyclic shear: a run stopped in any stage resumes from its restart file to the uninterrupted run's files",
+          "[cyclic][integration][resume]") {
+  Consolidated base("cyclic_resume");
+  const auto specimen = [] {
+    io::Config keys = dem::testing::reduced_specimen();
+    keys.set("output.restart_every_steps", "150");
+    return simple_shear_config(keys);
+  };
+  CyclicShearConfig c;
+  c.static_csr = 0.05;
+  c.csr = 0.1;
+  c.max_cycles = 2;
+  c.rows_per_cycle = 20;
+  c.post_strain = 0.012;  // three rows of output.every_strain
+  c.snapshot_cycles = {1.0};
+  c.fabric_cycles = {1.0, 2.0};
+  const auto run_to_end = [&](const fs::path& dir, const fs::path& from, std::int64_t stop_at_step) {
+    std::ostringstream log;
+    CyclicShearTest test(specimen(), c, dir, log);
+    if (stop_at_step > 0)  // a kill at that step, as far as the files can tell
+      test.world().add_controller([stop_at_step](World& w) {
+        if (w.step_count() == stop_at_step) throw std::runtime_error("stopped");
+      });
+    test.load_restart(from);
+    test.open_outputs();
+    test.run();
+    test.write_summary("{}");
+  };
+  const fs::path consolidated = base.dir.path / "consolidated.restart";
+  const dem::testing::TempDir whole("cyclic_resume_whole");
+  run_to_end(whole.path, consolidated, 0);
+  const io::CsvData rows = io::read_csv(whole.path / "cyclic_history.csv", io::Missing::Allowed);
+  // A step in the middle of each stage: static, cyclic, post-cyclic.
+  for (const double phase : {0.0, 1.0, 2.0}) {
+    std::vector<double> steps;
+    for (const auto& r : rows.rows)
+      if (r[rows.column("phase")] == phase) steps.push_back(r[rows.column("step")]);
+    REQUIRE(steps.size() >= 3);
+    const auto stop = static_cast<std::int64_t>(steps[steps.size() / 2]) + 7;
+    DYNAMIC_SECTION("stopped at step " << stop << " of phase " << phase) {
+      const dem::testing::TempDir dir("cyclic_resume_" + std::to_string(static_cast<int>(phase)));
+      CHECK_THROWS_WITH(run_to_end(dir.path, consolidated, stop), Contains("stopped"));
+      REQUIRE(fs::exists(dir.path / "restart.restart"));
+      run_to_end(dir.path, dir.path / "restart.restart", 0);
+      for (const char* file : {"cyclic_history.csv", "cycles.csv", "cyclic_fabric.csv", "history.csv", "fabric.csv",
+                               "cyclic_snapshots/snapshots.csv", "cyclic_snapshots/balls.pvd"})
+        CHECK(dem::testing::file_text(dir.path / file) == dem::testing::file_text(whole.path / file));
+      CHECK(!dem::testing::file_text(dir.path / "cyclic_history.csv").empty());
+    }
+  }
 }

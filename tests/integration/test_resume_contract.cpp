@@ -2,6 +2,7 @@
 // may not change what the file already holds, may change the rest (recorded in summary.json), and
 // a refused resume touches nothing in its output folder. Reduced specimen (about 170 balls).
 #include <catch2/catch.hpp>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -11,8 +12,12 @@
 
 #include <dem/core/errors.hpp>
 #include <dem/io/checkpoint.hpp>
-#include <dem/lab/resume_rules.hpp>
-#include <dem/lab/simple_shear.hpp>
+#include <dem/io/csv.hpp>
+#include <dem/lab/toolkit/resume_rules.hpp>
+#include <dem/lab/protocols/calibration.hpp>
+#include <dem/lab/protocols/cyclic_shear.hpp>
+#include <dem/lab/protocols/simple_shear.hpp>
+#include <dem/lab/protocols/triaxial.hpp>
 
 #include "support/json.hpp"
 #include "support/reduced_specimen.hpp"
@@ -35,7 +40,7 @@ io::Config small_config() {
 }
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("libdem_resume_" + name);
+  const fs::path dir = fs::temp_directory_path() / ("libdem_resume_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   return dir;
 }
@@ -67,11 +72,21 @@ using Record = std::vector<std::pair<std::string, std::string>>;
 }  // namespace
 
 TEST_CASE("resume rules: every configuration key has a rule", "[resume]") {
-  const io::Schema schema = simple_shear_schema();
-  for (const io::KeySpec& spec : schema.keys()) {
-    INFO(spec.key);
-    CHECK_NOTHROW(resume_rule(spec.key));
-  }
+  for (const io::Schema& schema : {simple_shear_schema(), cyclic_shear_schema(), calibration_schema()})
+    for (const io::KeySpec& spec : schema.keys()) {
+      INFO(spec.key);
+      CHECK_NOTHROW(resume_rule(schema, spec.key));
+    }
+  // A key declared without one is a programming error, named.
+  io::Schema bare;
+  bare.add({.key = "new.key", .default_value = "1"});
+  CHECK_THROWS_WITH(resume_rule(bare, "new.key"), Contains("new.key") && Contains("fixed column"));
+}
+
+TEST_CASE("resume rules: docs/restart.md shows the table the binding tables declare", "[resume][docs]") {
+  const std::string table = resume_rules_table(cyclic_shear_schema());
+  INFO(table);
+  CHECK(dem::testing::file_text(std::filesystem::path(LIBDEM_SOURCE_DIR) / "docs" / "restart.md").find(table) != std::string::npos);
 }
 
 TEST_CASE("resume rules: what is done is fixed, what is to come and the outputs may change", "[resume]") {
@@ -111,32 +126,37 @@ TEST_CASE("resume rules: what is done is fixed, what is to come and the outputs 
       {"output.restart_every_steps", RunProgress::Generating, false, true},
       {"engine.threads", RunProgress::Shearing, false, true},
       {"engine.max_overlap_ratio", RunProgress::Shearing, false, true},
+      {"ball_ball.law", RunProgress::Generating, false, false},
+      {"cyclic.csr", RunProgress::Consolidated, false, true},  // a consolidated specimen, cycled in another way
+      {"cyclic.csr", RunProgress::Shearing, false, false},     // a cyclic stage under way
+      {"cyclic.max_cycles", RunProgress::Shearing, false, true},
   };
+  const io::Schema schema = cyclic_shear_schema();
   for (const Case& c : cases) {
     INFO(c.key << " at " << to_string(c.progress) << (c.reconsolidate ? " (reconsolidation)" : ""));
     const Record file{{c.key, "1"}}, now{{c.key, "2"}};
     if (c.allowed) {
-      const auto changes = check_resume(file, now, c.progress, c.reconsolidate, "restart file f");
+      const auto changes = check_resume(schema, file, now, c.progress, c.reconsolidate, "restart file f");
       REQUIRE(changes.size() == 1);
       CHECK(changes[0].key == c.key);
       CHECK(changes[0].file_value == "1");
       CHECK(changes[0].new_value == "2");
     } else {
-      CHECK_THROWS_WITH(check_resume(file, now, c.progress, c.reconsolidate, "restart file f"),
+      CHECK_THROWS_WITH(check_resume(schema, file, now, c.progress, c.reconsolidate, "restart file f"),
                         Contains(std::string(c.key) + " = 2 here, 1 in the file") && Contains("restart file f") &&
                             Contains(to_string(c.progress)));
     }
   }
   // A file written before shear.damping_frame existed sheared in the fixed frame: the new default
   // is refused mid-shear, naming the key, and allowed on a consolidated specimen.
-  CHECK_THROWS_WITH(check_resume({{"shear.mode", "drained"}}, {{"shear.mode", "drained"}, {"shear.damping_frame", "plates"}},
+  CHECK_THROWS_WITH(check_resume(schema, {{"shear.mode", "drained"}}, {{"shear.mode", "drained"}, {"shear.damping_frame", "plates"}},
                                  RunProgress::Shearing, false, "f"),
                     Contains("shear.damping_frame = plates here, fixed in the file"));
-  CHECK(check_resume({{"shear.mode", "drained"}}, {{"shear.damping_frame", "fixed"}}, RunProgress::Shearing, false, "f").empty());
-  CHECK(check_resume({{"shear.mode", "drained"}}, {{"shear.damping_frame", "plates"}}, RunProgress::Consolidated, false, "f")
+  CHECK(check_resume(schema, {{"shear.mode", "drained"}}, {{"shear.damping_frame", "fixed"}}, RunProgress::Shearing, false, "f").empty());
+  CHECK(check_resume(schema, {{"shear.mode", "drained"}}, {{"shear.damping_frame", "plates"}}, RunProgress::Consolidated, false, "f")
             .size() == 1);
   // Unchanged keys and keys of another schema version pass without a word.
-  CHECK(check_resume({{"shear.mode", "drained"}, {"old.key", "1"}}, {{"shear.mode", "drained"}, {"new.key", "2"}},
+  CHECK(check_resume(schema, {{"shear.mode", "drained"}, {"old.key", "1"}}, {{"shear.mode", "drained"}, {"new.key", "2"}},
                      RunProgress::Done, false, "f")
             .empty());
 }
@@ -256,4 +276,61 @@ TEST_CASE("resume: a restart file with the key-value protocol lines of earlier v
   }
   CHECK(histories[0].size() > 1000);
   CHECK(histories[0] == histories[1]);
+}
+
+TEST_CASE("triaxial: the protocol's keys, a drained test that holds the confining stress, and a resume in each stage",
+          "[resume][triaxial]") {
+  io::Config keys(triaxial_schema());
+  keys.set("specimen.balls_per_side", "6");
+  keys.set("axial.target_strain", "0.01");
+  keys.set("axial.every_strain", "0.001");
+  keys.set("output.restart_every_steps", "400");
+  keys.set("engine.threads", "1");
+  const TriaxialConfig config = triaxial_config(keys);
+  const auto run_to_end = [&](const std::filesystem::path& dir, const std::filesystem::path& from, std::int64_t stop_at_step) {
+    std::ostringstream log;
+    TriaxialTest test(config, dir, log);
+    test.record_configuration(keys);
+    if (stop_at_step > 0)  // a kill at that step, as far as the files can tell
+      test.world().add_controller([stop_at_step](World& w) {
+        if (w.step_count() == stop_at_step) throw std::runtime_error("stopped");
+      });
+    if (!from.empty()) test.load_restart(from);
+    test.run();
+    test.write_summary(keys.to_json());
+  };
+  const std::filesystem::path whole = fresh_dir("triaxial_whole");
+  run_to_end(whole, {}, 0);
+  const io::CsvData rows = io::read_csv(whole / "history.csv");
+  REQUIRE(rows.rows.size() >= 8);
+  // Drained: the lateral walls hold the confining stress within the servo's tolerance while the
+  // axial stress rises; p and q as defined from the walls' stresses.
+  for (const auto& r : rows.rows) {
+    CHECK(r[rows.column("sigma_radial")] == Approx(100e3).epsilon(0.05));
+    const double a = r[rows.column("sigma_axial")], lateral = r[rows.column("sigma_radial")];
+    CHECK(r[rows.column("mean_stress")] == Approx((a + 2 * lateral) / 3).epsilon(1e-12));
+    CHECK(r[rows.column("deviator_stress")] == Approx(a - lateral).epsilon(1e-12).margin(1e-9));
+  }
+  CHECK(rows.rows.back()[rows.column("axial_strain")] >= 0.01);
+  CHECK(rows.rows.back()[rows.column("deviator_stress")] > 0.3 * 100e3);
+  // Stopped in the isotropic and in the axial stage, resumed from restart.restart: the same history.
+  const std::int64_t isotropic_end = static_cast<std::int64_t>(rows.rows.front()[rows.column("step")]);
+  const std::int64_t axial_middle = static_cast<std::int64_t>(rows.rows[rows.rows.size() / 2][rows.column("step")]);
+  for (const std::int64_t stop : {isotropic_end / 2 + 3, axial_middle + 3}) {
+    DYNAMIC_SECTION("stopped at step " << stop) {
+      const std::filesystem::path dir = fresh_dir("triaxial_" + std::to_string(stop));
+      CHECK_THROWS_WITH(run_to_end(dir, {}, stop), Contains("stopped"));
+      REQUIRE(std::filesystem::exists(dir / "restart.restart"));
+      run_to_end(dir, dir / "restart.restart", 0);
+      CHECK(dem::testing::file_text(dir / "history.csv") == dem::testing::file_text(whole / "history.csv"));
+    }
+  }
+  // The confining stress is fixed once the isotropic stage has begun: a resume that changes it is refused.
+  io::Config other = keys;
+  other.set("isotropic.confining_stress", "2e5");
+  std::ostringstream log;
+  TriaxialTest test(triaxial_config(other), fresh_dir("triaxial_refused"), log);
+  test.record_configuration(other);
+  CHECK_THROWS_WITH(test.load_restart(whole / "consolidated.restart"),
+                    Contains("isotropic.confining_stress = 2e+05 here, 1e+05 in the file") && !Contains("dem-consolidate"));
 }

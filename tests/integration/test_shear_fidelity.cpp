@@ -9,7 +9,7 @@
 
 #include <dem/core/errors.hpp>
 #include <dem/io/csv.hpp>
-#include <dem/lab/simple_shear.hpp>
+#include <dem/lab/protocols/simple_shear.hpp>
 
 #include "support/reduced_specimen.hpp"
 #include "support/temp_dir.hpp"

@@ -1,6 +1,7 @@
 // The simple-shear protocol end to end on a reduced specimen (30 mm x 12 mm, 4D balls: about 170
 // balls): outputs, their consistency, determinism and restart equality.
 #include <catch2/catch.hpp>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -8,7 +9,7 @@
 #include <sstream>
 
 #include <dem/io/csv.hpp>
-#include <dem/lab/simple_shear.hpp>
+#include <dem/lab/protocols/simple_shear.hpp>
 
 #include "support/json.hpp"
 #include "support/reduced_specimen.hpp"
@@ -32,7 +33,7 @@ io::Config small_config() {
 }
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("libdem_shear_" + name);
+  const fs::path dir = fs::temp_directory_path() / ("libdem_shear_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   return dir;
 }

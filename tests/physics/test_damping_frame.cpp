@@ -4,7 +4,7 @@
 // force, as test T7.
 #include <catch2/catch.hpp>
 
-#include <dem/lab/shear_cell.hpp>
+#include <dem/lab/toolkit/shear_cell.hpp>
 
 #include "support/scenes.hpp"
 

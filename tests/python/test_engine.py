@@ -201,3 +201,24 @@ def test_a_controller_reads_contacts_only_with_every_step_records():
     counts.clear()
     world.step(10)
     assert counts == [1] * 10
+
+
+def test_contact_laws_by_keyword():
+    """The registry's laws by keyword, as the apps' `<type>.law` key names them: listed with their
+    parameters' units, set on a World by keyword (unknown laws and parameters refused by name), and
+    the law a SimpleShear configuration names reaches its World."""
+    laws = {law["keyword"]: law for law in libdem.contact_laws()}
+    assert list(laws)[0] == "rrlinear" and "linear" in laws
+    assert laws["rrlinear"]["parameters"]["effective_modulus"]["unit"] == "Pa"
+    assert "rolling_friction" in laws["rrlinear"]["parameters"] and "rolling_friction" not in laws["linear"]["parameters"]
+    world = libdem.World()
+    world.set_contact_law(libdem.ContactKind.BALL_BALL, "linear", {"effective_modulus": 1e8, "friction": 0.3}, "ball_ball")
+    assert world.contact_law(libdem.ContactKind.BALL_BALL) == "linear"
+    world.set_contact_law(libdem.ContactKind.BALL_BALL, "rrlinear")
+    assert world.contact_law(libdem.ContactKind.BALL_BALL) == "rolling-linear"
+    with pytest.raises(ValueError, match="hertz.*rrlinear"):
+        world.set_contact_law(libdem.ContactKind.BALL_BALL, "hertz")
+    with pytest.raises(ValueError, match="ball_ball.rolling_friction.*linear"):
+        world.set_contact_law(libdem.ContactKind.BALL_BALL, "linear", {"rolling_friction": 0.1}, "ball_ball")
+    with pytest.raises(ValueError, match="ball_ball.friction"):
+        world.set_contact_law(libdem.ContactKind.BALL_BALL, "linear", {"friction": -1.0}, "ball_ball")

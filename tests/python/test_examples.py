@@ -71,37 +71,3 @@ def test_the_python_toolkit_protocol_writes_the_numbers_of_its_cpp_twin(tmp_path
     assert cpp.shape == python.shape and cpp.shape[0] >= 6
     assert np.array_equal(cpp, python)
 
-
-def read_history(path):
-    with open(path) as f:
-        columns = f.readline().strip().split(",")
-    return columns, np.genfromtxt(path, delimiter=",", skip_header=1)
-
-
-def test_ngi_script_shears_as_the_app_does(tmp_path):
-    """examples/ngi_simple_shear.cpp, the NGI protocol written as a script over the lab toolkit,
-    against dem-simple-shear with the same keys: every column the script writes equals the app's
-    column of that name to the last bit, for a drained one-leg shear and for a constant-volume
-    shear along two directions. The same specimen, the same consolidation and the same shear,
-    made from the parts instead of SimpleShearTest."""
-    build = Path(os.environ.get("LIBDEM_BUILD_DIR", "build"))
-    small = ["specimen.diameter=0.03", "specimen.height=0.012"]
-    cases = {"drained": small + ["shear.target_strain=0.05"],
-             "two_legs": small + ["shear.directions_deg=0,90", "shear.leg_strains=0.02,0.02",
-                                  "shear.mode=constant-volume"]}
-    for name, keys in cases.items():
-        script, app = tmp_path / (name + "_script"), tmp_path / (name + "_app")
-        subprocess.run([str(build / "examples" / "ngi_simple_shear"), "4D", str(script), *keys], check=True,
-                       capture_output=True)
-        sets = [arg for key in keys for arg in ("--set", key)]
-        subprocess.run([str(build / "apps" / "dem-simple-shear"), "--preset", "4D", *sets, "--out", str(app)],
-                       check=True, capture_output=True)
-        columns, rows = read_history(script / "history.csv")
-        app_columns, app_rows = read_history(app / "history.csv")
-        assert rows.shape[0] == app_rows.shape[0] >= 5, name
-        assert "profile_r2" in columns and columns[-1].startswith("ring_")
-        for k, column in enumerate(columns):
-            mine, theirs = rows[:, k], app_rows[:, app_columns.index(column)]
-            assert np.array_equal(mine, theirs, equal_nan=True), (name, column)
-        strain = rows[:, columns.index("shear_strain")]
-        assert strain[-1] >= (0.05 if name == "drained" else np.hypot(0.02, 0.02)) * (1 - 1e-9)

@@ -6,9 +6,9 @@
 
 #include <dem/core/errors.hpp>
 #include <dem/io/config.hpp>
-#include <dem/lab/cycle_log.hpp>
-#include <dem/lab/cyclic_path.hpp>
-#include <dem/lab/cyclic_shear_config.hpp>
+#include <dem/lab/toolkit/cycle_log.hpp>
+#include <dem/lab/toolkit/cyclic_path.hpp>
+#include <dem/lab/protocols/cyclic_shear_config.hpp>
 
 #include "support/temp_dir.hpp"
 

@@ -1,5 +1,5 @@
-// The history log whose columns the parts register by name (lab/history_log.hpp), and the
-// uniformity probe's columns (lab/uniformity_probe.hpp) on a specimen moved exactly as uniform
+// The history log whose columns the parts register by name (lab/toolkit/history_log.hpp), and the
+// uniformity probe's columns (lab/toolkit/uniformity_probe.hpp) on a specimen moved exactly as uniform
 // simple shear: free balls (no contacts, no gravity, no damping) whose velocities fall linearly
 // from the bottom plate's to zero at the held top plate.
 #include <catch2/catch.hpp>
@@ -11,9 +11,9 @@
 #include <dem/contact/linear_law.hpp>
 #include <dem/core/errors.hpp>
 #include <dem/io/csv.hpp>
-#include <dem/lab/history_log.hpp>
-#include <dem/lab/shear_cell.hpp>
-#include <dem/lab/uniformity_probe.hpp>
+#include <dem/lab/toolkit/history_log.hpp>
+#include <dem/lab/toolkit/shear_cell.hpp>
+#include <dem/lab/toolkit/uniformity_probe.hpp>
 
 #include "../support/temp_dir.hpp"
 

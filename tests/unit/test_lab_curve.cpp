@@ -9,7 +9,7 @@
 #include <string>
 
 #include <dem/core/errors.hpp>
-#include <dem/lab/lab_curve.hpp>
+#include <dem/lab/toolkit/lab_curve.hpp>
 
 using dem::InputError;
 using dem::lab::LabCurve;

@@ -11,13 +11,13 @@
 #include <vector>
 
 #include <dem/contact/linear_law.hpp>
-#include <dem/lab/consolidation.hpp>
-#include <dem/lab/friction_schedule.hpp>
-#include <dem/lab/grading.hpp>
-#include <dem/lab/horizontal_drive.hpp>
-#include <dem/lab/radius_expansion.hpp>
-#include <dem/lab/shear_cell.hpp>
-#include <dem/lab/shear_leg.hpp>
+#include <dem/lab/toolkit/consolidation.hpp>
+#include <dem/lab/toolkit/friction_schedule.hpp>
+#include <dem/lab/toolkit/grading.hpp>
+#include <dem/lab/toolkit/horizontal_drive.hpp>
+#include <dem/lab/toolkit/radius_expansion.hpp>
+#include <dem/lab/toolkit/shear_cell.hpp>
+#include <dem/lab/toolkit/shear_leg.hpp>
 
 using namespace dem;
 using namespace dem::lab;
@@ -167,13 +167,13 @@ TEST_CASE("lab toolkit: consolidation ends within the servo tolerance of its tar
     servo(w);
     move_rings(w, cell, true);
   });
-  const ConsolidationTarget hurried{.stress = 80e3, .max_steps = 20};
+  const ConsolidationTarget hurried{.vertical_stress = 80e3, .max_steps = 20};
   start_consolidation(servo, hurried);
   const ConsolidationReport cut_short = consolidate(world, servo, hurried, world.step_count());
   CHECK_FALSE(cut_short.settled);
   CHECK(cut_short.steps == 20);
 
-  const ConsolidationTarget target{.stress = 80e3, .max_steps = 200000};
+  const ConsolidationTarget target{.vertical_stress = 80e3, .max_steps = 200000};
   const ConsolidationReport report = consolidate(world, servo, target, world.step_count());
   REQUIRE(report.settled);
   CHECK(std::abs(report.stress - 80e3) <= 0.01 * 80e3);  // the servo's settle tolerance

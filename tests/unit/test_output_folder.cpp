@@ -17,7 +17,7 @@ using Catch::Matchers::Contains;
 namespace {
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("libdem_output_folder_" + name);
+  const fs::path dir = fs::temp_directory_path() / ("libdem_output_folder_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   return dir;
 }

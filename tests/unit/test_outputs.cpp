@@ -13,8 +13,8 @@
 #include <vector>
 
 #include <dem/io/csv.hpp>
-#include <dem/lab/fabric_log.hpp>
-#include <dem/lab/snapshots.hpp>
+#include <dem/lab/toolkit/fabric_log.hpp>
+#include <dem/lab/toolkit/snapshots.hpp>
 
 #include "support/scenes.hpp"
 

@@ -3,12 +3,13 @@
 // study's Table 1 values (typed here from the study, not from the code).
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
 #include "dem/core/errors.hpp"
 #include "dem/io/config.hpp"
-#include "dem/lab/simple_shear_config.hpp"
+#include "dem/lab/toolkit/simple_shear_config.hpp"
 
 using Catch::Matchers::Contains;
 using namespace dem;
@@ -36,7 +37,7 @@ TEST_CASE("simple-shear keys: the schema's defaults are SimpleShearConfig{}, the
   CHECK(d.grading.sieve_diameters == std::vector<double>{0.60e-3, 0.65e-3, 0.82e-3, 0.897e-3, 1.20e-3});
   CHECK(d.grading.passing_fraction == std::vector<double>{0.0, 0.10, 0.50, 0.60, 1.0});
   CHECK(d.generation.plate == GenerationPlate::Servo);
-  CHECK(d.generation_friction() == d.ball_ball.friction);  // "ball-ball" by default
+  CHECK(d.generation_friction() == d.ball_ball.friction());  // "ball-ball" by default
   // Every key of the schema is one field: the values of the struct name every key, in order.
   const auto values = simple_shear_values(d);
   const io::Schema schema = simple_shear_schema();
@@ -60,17 +61,17 @@ TEST_CASE("simple-shear keys: each preset read from its keys is the struct made 
     const SimpleShearConfig made = simple_shear_preset(row.preset);
     CHECK(simple_shear_config(preset_config(row.preset)) == made);
     CHECK(made.grading.scale == row.scale);
-    CHECK(made.ball_ball.effective_modulus == row.modulus);
-    CHECK(made.ball_ball.friction == row.friction);
-    CHECK(made.ball_ball.rolling_friction == row.rolling_friction);
+    CHECK(made.ball_ball.stiffness() == row.modulus);
+    CHECK(made.ball_ball.friction() == row.friction);
+    CHECK(made.ball_ball.rolling_friction() == row.rolling_friction);
     CHECK(made.generation.steps_per_stage == row.settle_steps);
     // The generation friction is the number itself, so a calibration that varies the ball-ball
     // friction keeps making the same specimen.
     CHECK(made.generation.friction == row.friction);
     CHECK(made.generation.rolling_friction == row.rolling_friction);
     // Plates and rings are the same at every scale.
-    CHECK(made.ball_facet == ContactTypeConfig{2e7, 1.0, 0.9, 0.9});
-    CHECK(made.ball_pebble == ContactTypeConfig{2e7, 1.0, 0.1, 0.1});
+    CHECK(made.ball_facet == ContactTypeConfig::rolling_linear(2e7, 1.0, 0.9, 0.9));
+    CHECK(made.ball_pebble == ContactTypeConfig::rolling_linear(2e7, 1.0, 0.1, 0.1));
   }
   CHECK_THROWS_WITH(simple_shear_preset("3D"), Contains("--preset = 3D") && Contains("1D, 2D, 4D"));
 }
@@ -103,6 +104,44 @@ TEST_CASE("simple-shear keys: key = field name, and a struct's values read back 
   io::Config again(simple_shear_schema());
   for (const auto& [key, value] : simple_shear_values(s)) again.set(key, value);
   CHECK(simple_shear_config(again) == s);
+}
+
+TEST_CASE("simple-shear keys: each contact type names its law by keyword and reads that law's parameters", "[lab][config][law]") {
+  // The default is the study's rolling-resistance linear law, with every one of its parameters.
+  const SimpleShearConfig d;
+  CHECK(d.ball_ball.law == "rrlinear");
+  CHECK(d.ball_ball.model("ball_ball")->law_name() == std::string("rolling-linear"));
+  io::Config c(simple_shear_schema());
+  c.set("ball_facet.law", "linear");
+  c.set("ball_facet.friction", "0.3");
+  const SimpleShearConfig s = simple_shear_config(c);
+  CHECK(s.ball_facet.law == "linear");
+  CHECK(s.ball_facet.friction() == 0.3);
+  CHECK(s.ball_facet.rolling_friction() == 0.0);  // the linear law has none
+  CHECK_FALSE(s.ball_facet.parameters.has("rolling_friction"));
+  CHECK(s.ball_facet.model("ball_facet")->law_name() == std::string("linear"));
+  CHECK(s.ball_ball.law == "rrlinear");
+  // Its values read back to the same struct, the law included.
+  io::Config again(simple_shear_schema());
+  for (const auto& [key, value] : simple_shear_values(s)) again.set(key, value);
+  CHECK(simple_shear_config(again) == s);
+  // A keyword that is not a law is refused with the key, the value and the laws there are.
+  CHECK_THROWS_WITH(c.set("ball_ball.law", "hertz"), Contains("ball_ball.law") && Contains("hertz") && Contains("rrlinear") &&
+                                                         Contains("linear"));
+  // A role the law does not have cannot be set from C++ either.
+  ContactTypeConfig linear = s.ball_facet;
+  CHECK_THROWS_WITH(linear.set_rolling_friction(0.1), Contains("rolling friction") && Contains("linear"));
+  // The registry's rows: unique keywords, each with the parameters its roles name.
+  std::vector<std::string> seen;
+  for (const LawEntry& law : contact_laws()) {
+    INFO(law.keyword);
+    CHECK(std::find(seen.begin(), seen.end(), law.keyword) == seen.end());
+    seen.push_back(law.keyword);
+    const LawValues values(law.parameters);
+    for (const std::string& role : {law.roles.stiffness, law.roles.friction, law.roles.rolling_friction})
+      if (!role.empty()) CHECK(values.has(role));
+    CHECK(law.bind(values, "test") != nullptr);
+  }
 }
 
 TEST_CASE("simple-shear keys: the checks across keys apply to a struct built in C++", "[lab][config]") {

@@ -34,6 +34,19 @@ enum class ValueType { Real, Integer, Boolean, Text, RealList };
 /// "real", "integer", "boolean", "text" or "real list".
 std::string to_string(ValueType type);
 
+/// When a run resumed from a restart file may no longer change a key (docs/restart.md): from the
+/// protocol's stage `from` on (a protocol numbers its stages in the order a run goes through them;
+/// never_fixed: the key may always change), with `why` ending the refusal. A reconsolidation of a
+/// consolidated specimen may change the key anyway when `reconsolidation` is set.
+struct FixedAfter {
+  int from = 0;
+  std::string why{};
+  bool reconsolidation = false;
+  static constexpr int never_fixed = 1 << 30;
+  static FixedAfter never() { return {never_fixed, "", true}; }
+  bool is_never() const { return from == never_fixed; }
+};
+
 /// Declaration of one configuration key. Field order allows designated initializers:
 /// {.key = "contact.kn", .type = ValueType::Real, .default_value = "1e6", .unit = "N/m",
 ///  .help = "normal stiffness", .min = 0.0, .min_exclusive = true}
@@ -48,6 +61,7 @@ struct KeySpec {
   std::optional<double> min{}, max{};  // allowed range (inclusive); RealList: every element
   bool min_exclusive = false;          // min itself is not allowed (e.g. stiffness > 0)
   std::vector<std::string> choices{};  // Text only: the allowed values, if not empty
+  std::optional<FixedAfter> fixed{};   // the resume rule; none: the protocol declares none
 };
 
 /// The set of keys an app accepts.

@@ -44,12 +44,20 @@ struct TextChoice {
   std::function<void(S&, const std::string& text, const std::string& key)> set;
 };
 
+/// A real reached through two functions: a member of a member (settings.comparison.eps_stress).
+template <class S>
+struct RealField {
+  std::function<double(const S&)> get;
+  std::function<void(S&, double)> set;
+};
+
 template <class S>
 using BoundMember = std::variant<double S::*, long S::*, int S::*, std::uint64_t S::*, bool S::*, std::string S::*,
-                                 std::vector<double> S::*, TextChoice<S>>;
+                                 std::vector<double> S::*, TextChoice<S>, RealField<S>>;
 
 /// One key: `name` (the member's name), the member, its SI unit, help and range (of every element
-/// for a list); integers and reals share the range. Field order allows {name, member, unit, help, min, max}.
+/// for a list); integers and reals share the range; and when a resumed run may no longer change it
+/// (none: the section's rule, add_keys). Field order allows {name, member, unit, help, min, max}.
 template <class S>
 struct Binding {
   std::string name;
@@ -58,6 +66,7 @@ struct Binding {
   std::string help;
   std::optional<double> min{}, max{};
   bool min_exclusive = false;
+  std::optional<FixedAfter> fixed{};
 };
 
 template <class S>
@@ -84,17 +93,20 @@ std::pair<ValueType, std::string> bound_text(const Binding<S>& binding, const S&
         else if constexpr (std::is_same_v<M, std::string S::*>) return {ValueType::Text, value.*m};
         else if constexpr (std::is_same_v<M, std::vector<double> S::*>) return {ValueType::RealList, real_list_text(value.*m)};
         else if constexpr (std::is_same_v<M, TextChoice<S>>) return {ValueType::Text, m.get(value)};
+        else if constexpr (std::is_same_v<M, RealField<S>>) return {ValueType::Real, real_text(m.get(value))};
         else return {ValueType::Integer, std::to_string(value.*m)};
       },
       binding.member);
 }
 
-/// Adds "<section>.<name>" for every row, with the default taken from `defaults`.
+/// Adds "<section>.<name>" for every row, with the default taken from `defaults` and the resume
+/// rule of the row, or `section_rule` for a row without one.
 template <class S>
-void add_keys(Schema& schema, const std::string& section, const BindingTable<S>& table, const S& defaults) {
+void add_keys(Schema& schema, const std::string& section, const BindingTable<S>& table, const S& defaults,
+              const std::optional<FixedAfter>& section_rule = std::nullopt) {
   for (const Binding<S>& b : table) {
     KeySpec spec{.key = section + "." + b.name, .unit = b.unit, .help = b.help, .min = b.min, .max = b.max,
-                 .min_exclusive = b.min_exclusive};
+                 .min_exclusive = b.min_exclusive, .fixed = b.fixed ? b.fixed : section_rule};
     std::tie(spec.type, spec.default_value) = bound_text(b, defaults);
     if (const auto* choice = std::get_if<TextChoice<S>>(&b.member)) spec.choices = choice->choices;
     schema.add(spec);
@@ -114,6 +126,7 @@ void read_keys(const Config& config, const std::string& section, const BindingTa
           else if constexpr (std::is_same_v<M, std::string S::*>) out.*m = config.text(key);
           else if constexpr (std::is_same_v<M, std::vector<double> S::*>) out.*m = config.real_list(key);
           else if constexpr (std::is_same_v<M, TextChoice<S>>) m.set(out, config.text(key), key);
+          else if constexpr (std::is_same_v<M, RealField<S>>) m.set(out, config.real(key));
           else out.*m = static_cast<std::remove_reference_t<decltype(out.*m)>>(config.integer(key));
         },
         b.member);

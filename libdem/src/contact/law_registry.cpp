@@ -1,0 +1,95 @@
+// The built-in laws' rows (the recipe for a new one is atop contact/law_registry.hpp).
+#include <dem/contact/law_registry.hpp>
+
+#include <stdexcept>
+
+#include <dem/contact/linear_law.hpp>
+#include <dem/core/errors.hpp>
+
+namespace dem {
+
+LawValues::LawValues(const std::vector<LawParameter>& parameters) {
+  for (const LawParameter& p : parameters) values_[p.name] = p.default_value;
+}
+
+double LawValues::at(const std::string& name) const {
+  const auto it = values_.find(name);
+  if (it == values_.end()) throw std::logic_error("contact law parameter '" + name + "': the law has none of that name");
+  return it->second;
+}
+
+double LawValues::value_or(const std::string& name, double fallback) const {
+  const auto it = values_.find(name);
+  return it == values_.end() ? fallback : it->second;
+}
+
+namespace {
+
+// The linear family's keys: the deformability method (docs/model.md 1.3) and optional dashpots.
+std::vector<LawParameter> linear_parameters() {
+  return {
+      {"effective_modulus", "Pa", "effective modulus E* (deformability method: kn = pi rbar^2 E* / L)", 1e8, 0.0, {}, true},
+      {"stiffness_ratio", "-", "normal-to-shear stiffness ratio kappa*", 1.0, 0.0, {}, true},
+      {"friction", "-", "Coulomb friction coefficient", 0.5, 0.0},
+      {"normal_damping_ratio", "-", "normal dashpot critical-damping ratio (the study does not state one)", 0.0, 0.0, 1.0},
+      {"shear_damping_ratio", "-", "shear dashpot critical-damping ratio", 0.0, 0.0, 1.0},
+  };
+}
+
+LinearParams linear_params(const LawValues& v) {
+  LinearParams p = LinearParams::deformable(v.at("effective_modulus"), v.at("stiffness_ratio"), v.at("friction"));
+  p.normal_damping_ratio = v.at("normal_damping_ratio");
+  p.shear_damping_ratio = v.at("shear_damping_ratio");
+  return p;
+}
+
+std::shared_ptr<const ContactModel> bind_linear(const LawValues& v, const std::string& where) {
+  return make_contact_model<LinearLaw>(linear_params(v), where);
+}
+
+std::shared_ptr<const ContactModel> bind_rolling_linear(const LawValues& v, const std::string& where) {
+  RollingLinearLaw::Params p;
+  static_cast<LinearParams&>(p) = linear_params(v);
+  p.rolling_friction = v.at("rolling_friction");
+  return make_contact_model<RollingLinearLaw>(p, where);
+}
+
+std::vector<LawParameter> rolling_linear_parameters() {
+  std::vector<LawParameter> parameters = linear_parameters();
+  parameters.insert(parameters.begin() + 3, {"rolling_friction", "-", "rolling resistance coefficient mu_r", 0.0, 0.0});
+  return parameters;
+}
+
+}  // namespace
+
+const std::vector<LawEntry>& contact_laws() {
+  static const std::vector<LawEntry> laws = {
+      {"rrlinear",
+       "rolling-resistance linear, PFC's rrlinear (docs/model.md 1.2)",
+       rolling_linear_parameters(),
+       {"effective_modulus", "friction", "rolling_friction"},
+       &bind_rolling_linear},
+      {"linear", "linear with Coulomb slip, PFC's linear (docs/model.md 1.1)",
+       linear_parameters(),
+       {"effective_modulus", "friction", ""},
+       &bind_linear},
+  };
+  return laws;
+}
+
+const LawEntry& contact_law(const std::string& keyword, const std::string& key) {
+  std::string known;
+  for (const LawEntry& law : contact_laws()) {
+    if (law.keyword == keyword) return law;
+    known += (known.empty() ? "" : ", ") + law.keyword;
+  }
+  throw InputError(key + " = " + keyword + ": must be one of " + known);
+}
+
+std::vector<std::string> contact_law_keywords() {
+  std::vector<std::string> keywords;
+  for (const LawEntry& law : contact_laws()) keywords.push_back(law.keyword);
+  return keywords;
+}
+
+}  // namespace dem

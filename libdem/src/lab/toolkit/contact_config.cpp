@@ -1,0 +1,105 @@
+#include <dem/lab/toolkit/contact_config.hpp>
+
+#include <dem/core/errors.hpp>
+#include <dem/io/config_binding.hpp>
+
+namespace dem::lab {
+
+namespace {
+
+// Every law's parameters once, in the registry's order (a name shared by two laws is one key).
+std::vector<LawParameter> all_parameters() {
+  std::vector<LawParameter> all;
+  for (const LawEntry& law : contact_laws())
+    for (const LawParameter& p : law.parameters) {
+      bool known = false;
+      for (const LawParameter& q : all) known = known || q.name == p.name;
+      if (!known) all.push_back(p);
+    }
+  return all;
+}
+
+// The laws that read parameter `name`, for its help: "(rrlinear, linear)".
+std::string laws_using(const std::string& name) {
+  std::string laws;
+  for (const LawEntry& law : contact_laws())
+    for (const LawParameter& p : law.parameters)
+      if (p.name == name) laws += (laws.empty() ? "" : ", ") + law.keyword;
+  return "(" + laws + ")";
+}
+
+}  // namespace
+
+ContactTypeConfig ContactTypeConfig::rolling_linear(double effective_modulus, double stiffness_ratio, double friction,
+                                                    double rolling_friction) {
+  ContactTypeConfig c;
+  c.law = "rrlinear";
+  c.parameters = LawValues(contact_law(c.law).parameters);
+  c.parameters.set("effective_modulus", effective_modulus);
+  c.parameters.set("stiffness_ratio", stiffness_ratio);
+  c.parameters.set("friction", friction);
+  c.parameters.set("rolling_friction", rolling_friction);
+  c.parameters.set("normal_damping_ratio", 0.0);
+  c.parameters.set("shear_damping_ratio", 0.0);
+  return c;
+}
+
+void ContactTypeConfig::set_role(const std::string& name, const char* role, double value) {
+  require(!name.empty(), std::string("the ") + role + " of contact law " + law, value,
+          "not set: the law has no such parameter (contact/law_registry.hpp)");
+  parameters.set(name, value);
+}
+
+std::shared_ptr<const ContactModel> ContactTypeConfig::model(const std::string& where) const {
+  return entry().bind(parameters, where);
+}
+
+std::shared_ptr<const ContactModel> ContactTypeConfig::model_with_friction(double friction, double rolling_friction,
+                                                                           const std::string& where) const {
+  const LawRoles& roles = entry().roles;
+  LawValues values = parameters;
+  if (!roles.friction.empty()) values.set(roles.friction, friction);
+  if (!roles.rolling_friction.empty()) values.set(roles.rolling_friction, rolling_friction);
+  return entry().bind(values, where);
+}
+
+// Whether parameter `name` plays the friction or rolling-friction role in some law.
+static bool friction_role(const std::string& name) {
+  for (const LawEntry& law : contact_laws())
+    if (name == law.roles.friction || name == law.roles.rolling_friction) return true;
+  return false;
+}
+
+void add_contact_keys(io::Schema& schema, const std::string& section, const std::string& what,
+                      const ContactTypeConfig& defaults, const ContactKeyRules& rules) {
+  std::string laws;
+  for (const LawEntry& law : contact_laws()) laws += (laws.empty() ? "" : "; ") + law.keyword + ": " + law.summary;
+  schema.add({.key = section + ".law", .type = io::ValueType::Text, .default_value = defaults.law, .unit = "-",
+              .help = "contact law of " + what + " contacts, its parameters the keys below (" + laws + ")",
+              .choices = contact_law_keywords(), .fixed = rules.law});
+  for (const LawParameter& p : all_parameters())
+    schema.add({.key = section + "." + p.name, .type = io::ValueType::Real,
+                .default_value = io::real_text(defaults.parameters.value_or(p.name, p.default_value)), .unit = p.unit,
+                .help = p.help + " " + laws_using(p.name), .min = p.min, .max = p.max, .min_exclusive = p.min_exclusive,
+                .fixed = friction_role(p.name) ? rules.friction : rules.parameters});
+}
+
+ContactTypeConfig read_contact_keys(const io::Config& config, const std::string& section) {
+  ContactTypeConfig c;
+  c.law = config.text(section + ".law");
+  const LawEntry& law = contact_law(c.law, section + ".law");
+  c.parameters = LawValues();
+  for (const LawParameter& p : law.parameters) c.parameters.set(p.name, config.real(section + "." + p.name));
+  return c;
+}
+
+void append_contact_values(std::vector<std::pair<std::string, std::string>>& out, const std::string& section,
+                           const ContactTypeConfig& value, const ContactTypeConfig& defaults) {
+  out.emplace_back(section + ".law", value.law);
+  for (const LawParameter& p : all_parameters()) {
+    const double v = value.parameters.value_or(p.name, defaults.parameters.value_or(p.name, p.default_value));
+    out.emplace_back(section + "." + p.name, io::real_text(v));
+  }
+}
+
+}  // namespace dem::lab
