@@ -233,8 +233,9 @@ int main(int argc, char** argv) {
                 2.0 * world.contact_count(ContactKind::BallBall) / ball_count);
     // Candidate pairs per ball (within reach + skin): what the pair loop scans every step.
     const PairContacts& pairs = world.pair_contacts(ContactKind::BallBall);
+    const PairPlan& pair_plan = world.pair_plan(ContactKind::BallBall);
     std::printf("candidates_per_ball: %.4f\nnear_candidates_per_ball: %.4f\nnear_refreshes: %lld\n",
-                2.0 * static_cast<double>(pairs.size()) / ball_count, 2.0 * static_cast<double>(pairs.near.size()) / ball_count,
+                2.0 * static_cast<double>(pairs.size()) / ball_count, 2.0 * static_cast<double>(pair_plan.near.size()) / ball_count,
                 static_cast<long long>(world.near_refresh_count()));
     std::printf("vertical_stress_Pa: %.6g\nkinetic_energy_J: %.6g\nrebuilds: %lld\npeak_rss_bytes_per_ball: %.0f\n",
                 vertical_stress(world, top_now), world.kinetic_energy(), static_cast<long long>(world.rebuild_count()),

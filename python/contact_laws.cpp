@@ -1,10 +1,10 @@
 // The contact laws from Python: the linear family's parameters as classes (World.set_contact_model),
-// and the registry of laws by keyword (contact/law_registry.hpp: contact_laws(), and
+// and the registry of laws by keyword (core/law_registry.hpp: contact_laws(), and
 // World.set_contact_law in engine.cpp).
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include <dem/contact/law_registry.hpp>
+#include <dem/core/law_registry.hpp>
 #include <dem/contact/linear_law.hpp>
 
 #include "bindings.hpp"
@@ -78,7 +78,7 @@ void bind_contact_laws(py::module_& m) {
       laws.append(row);
     }
     return laws;
-  }, "The contact laws by keyword (contact/law_registry.hpp): a list of {'keyword', 'summary', 'parameters':\n"
+  }, "The contact laws by keyword (core/law_registry.hpp): a list of {'keyword', 'summary', 'parameters':\n"
      "{name: {'unit', 'default', 'help'}}}, the first the default of every contact type.");
 }
 

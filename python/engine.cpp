@@ -16,7 +16,7 @@
 
 #include <dem/boundary/clump_ring.hpp>
 #include <dem/control/servo_wall.hpp>
-#include <dem/contact/law_registry.hpp>
+#include <dem/core/law_registry.hpp>
 #include <dem/contact/linear_law.hpp>
 #include <dem/core/errors.hpp>
 #include <dem/core/world.hpp>

@@ -159,7 +159,7 @@ TEST_CASE("determinism: one and two threads give bit-identical trajectories", "[
     world.set_contact_model(ContactKind::BallFacet, make_contact_model<RollingLinearLaw>(p, "ball-facet"));
     world.add_callback(1, [&](World& w) {
       contact_steps += w.contact_count(ContactKind::BallBall);
-      for (const auto& later : w.pair_contacts(ContactKind::BallBall).taken) taken_chunks += !later.empty();
+      for (const auto& later : w.pair_plan(ContactKind::BallBall).taken) taken_chunks += !later.empty();
     });
     world.step(300);
     return world;
@@ -197,16 +197,17 @@ TEST_CASE("determinism: one and two threads give bit-identical trajectories", "[
   // touched by a contact of the other share, and the run holds most of the share (only the
   // particles near the cut between the shares are shared).
   const PairContacts& c = two.pair_contacts(ContactKind::BallBall);
-  REQUIRE(c.shares.size() == 3);
-  REQUIRE(c.unshared_run.size() == 2);
+  const PairPlan& plan = two.pair_plan(ContactKind::BallBall);
+  REQUIRE(plan.shares.size() == 3);
+  REQUIRE(plan.unshared_run.size() == 2);
   std::vector<int> touched_by(two.particles().size(), 0);  // bit t: share t touches it
   for (int t = 0; t < 2; ++t)
-    for (std::int64_t k = c.shares[t]; k < c.shares[t + 1]; ++k)
+    for (std::int64_t k = plan.shares[t]; k < plan.shares[t + 1]; ++k)
       for (const std::int32_t piece : {c.first[k], c.second[k]}) touched_by[piece] |= 1 << t;
-  const auto [run_begin, run_end] = c.unshared_run[1];
-  CHECK(run_begin >= c.shares[1]);
-  CHECK(run_end <= c.shares[2]);
-  CHECK(run_end - run_begin > (c.shares[2] - c.shares[1]) / 2);
+  const auto [run_begin, run_end] = plan.unshared_run[1];
+  CHECK(run_begin >= plan.shares[1]);
+  CHECK(run_end <= plan.shares[2]);
+  CHECK(run_end - run_begin > (plan.shares[2] - plan.shares[1]) / 2);
   std::int64_t touched_by_both = 0;
   for (std::int64_t k = run_begin; k < run_end; ++k)
     for (const std::int32_t piece : {c.first[k], c.second[k]}) touched_by_both += touched_by[piece] == 3;

@@ -83,9 +83,9 @@ std::string first_difference(const std::string& a, const std::string& b) {
 /// share whose thread got no core).
 std::size_t deferred_sums(const World& world) {
   std::size_t count = 0;
-  const PairContacts& c = world.pair_contacts(ContactKind::BallBall);
-  for (const auto& later : c.deferred) count += later.size();
-  for (const auto& later : c.taken) count += later.size();
+  const PairPlan& plan = world.pair_plan(ContactKind::BallBall);
+  for (const auto& later : plan.deferred) count += later.size();
+  for (const auto& later : plan.taken) count += later.size();
   return count;
 }
 

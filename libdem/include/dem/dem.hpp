@@ -1,15 +1,16 @@
 // libdem: everything a simulation needs, in one include.
 #pragma once
 
+#include <dem/base/errors.hpp>
+#include <dem/base/math.hpp>
 #include <dem/boundary/clump.hpp>
 #include <dem/boundary/clump_ring.hpp>
 #include <dem/boundary/wall.hpp>
-#include <dem/control/servo_wall.hpp>
-#include <dem/contact/contact_model.hpp>
+#include <dem/contact/contact_law.hpp>
 #include <dem/contact/linear_law.hpp>
+#include <dem/control/servo_wall.hpp>
 #include <dem/core/contact_loops.hpp>  // make_contact_model for a law of your own
-#include <dem/core/errors.hpp>
-#include <dem/core/math.hpp>
+#include <dem/core/contact_model.hpp>
 #include <dem/core/particles.hpp>
 #include <dem/core/world.hpp>
 #include <dem/geometry/mesh.hpp>

@@ -8,7 +8,7 @@
 #include <sstream>
 #include <string>
 
-#include <dem/core/errors.hpp>
+#include <dem/base/errors.hpp>
 
 namespace dem {
 

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include <dem/core/errors.hpp>
+#include <dem/base/errors.hpp>
 
 namespace dem {
 

@@ -7,8 +7,9 @@
 #include <cmath>
 #include <limits>
 
-#include <dem/core/errors.hpp>
-#include <dem/core/parallel.hpp>
+#include <dem/base/errors.hpp>
+#include <dem/base/threads.hpp>
+#include <dem/core/pair_geometry.hpp>
 #include <dem/geometry/triangle.hpp>
 
 namespace dem {
@@ -411,10 +412,10 @@ void BroadPhase::rebuild(WorldState& state, const ContactModelTable& models, int
 
 bool BroadPhase::near_stale() const { return near_stale_ || 2.0 * std::sqrt(max_near_travel_sq_) > near_skin_; }
 
-void BroadPhase::refresh_near(WorldState& state, int threads_available) {
+void BroadPhase::refresh_near(const WorldState& state, StepPlan& plan, int threads_available) {
   const ParticleStore& p = state.particles;
   near_skin_ = state.settings.near_skin > 0.0 ? state.settings.near_skin : 0.2 * state.rebuild.skin;
-  state.contacts.for_each_pair_set([&](PairContacts& c) {
+  state.contacts.for_each_pair_set([&](const PairContacts& c) {
     // A candidate left out is more than near_skin apart now, so it cannot touch before some
     // particle has moved half of that, when the list is made again. One that touched in the
     // last step stays in, so that the loop ends its history as usual.
@@ -431,12 +432,13 @@ void BroadPhase::refresh_near(WorldState& state, int threads_available) {
         const auto i = static_cast<std::size_t>(c.first[static_cast<std::size_t>(k)]);
         const auto j = static_cast<std::size_t>(c.second[static_cast<std::size_t>(k)]);
         const double reach = p.radius[i] + p.radius[j] + near_skin_;
-        if (c.touching[static_cast<std::size_t>(k)] || (p.x[j] - p.x[i]).squaredNorm() < reach * reach)
+        if (c.touching[static_cast<std::size_t>(k)] || branch(p.x.data(), i, j).squaredNorm() < reach * reach)
           out.push_back(static_cast<std::int32_t>(k));
       }
     }
-    c.near.clear();
-    for (const auto& part : local) c.near.insert(c.near.end(), part.begin(), part.end());
+    std::vector<std::int32_t>& near = plan.pairs(c.kind).near;
+    near.clear();
+    for (const auto& part : local) near.insert(near.end(), part.begin(), part.end());
   });
   x_at_near_ = p.x;
   max_near_travel_sq_ = 0.0;

@@ -1,6 +1,8 @@
 // World: building, the step loop, the clock and the time step. The broad phase is BroadPhase
-// (broad_phase.cpp); forces are in world_forces.cpp, integration and stability checks in
-// world_integrate.cpp, queries in world_query.cpp; restart files in io/world_state.cpp.
+// (broad_phase.cpp), the threads' shares StepPlan (step_plan.cpp), the subdomains of a World spread
+// over processes parallel::Subdomains (world_domains.cpp delegates); forces are in world_forces.cpp,
+// integration and stability checks in world_integrate.cpp, queries in world_query.cpp; restart
+// files in io/world_state.cpp.
 #include <dem/core/world.hpp>
 
 #include <algorithm>
@@ -11,7 +13,7 @@
 
 #include <omp.h>
 
-#include <dem/core/errors.hpp>
+#include <dem/base/errors.hpp>
 
 namespace dem {
 
@@ -138,7 +140,7 @@ void World::step(std::int64_t n, StepEnd end) {
     }
     plan_domains();
     if (broad_phase_.near_stale()) {
-      broad_phase_.refresh_near(state_, threads_);
+      broad_phase_.refresh_near(state_, plan_, threads_);
       keep_local_near();
     }
     if (state_.clock.dt <= 0.0) update_time_step();
@@ -188,7 +190,7 @@ void World::rebuild_now(bool resort) {
 void World::rebuild(bool resort) {
   broad_phase_.rebuild(state_, models_, threads_, resort);
   pebble_layout_stale_ = pebble_layout_stale_ || resort;  // a re-sort moves particles in storage
-  share_plan_stale_ = true;
+  plan_.forget_shares();
   forget_domains();
   if (state_.settings.time_step <= 0.0 && state_.clock.dt > 0.0) update_time_step();
 }
@@ -197,7 +199,7 @@ void World::restore(WorldState state) {
   state_ = std::move(state);
   pebble_layout_stale_ = true;
   pair_records_current_ = true;  // a restart file holds the records of its last step
-  share_plan_stale_ = true;  // the restored contact lists are not those the plan was made for
+  plan_.forget_shares();  // the restored contact lists are not those the plan was made for
   forget_domains();
   broad_phase_.invalidate_near();
   // The file's time step belongs to the stiffness it was written with. Contact models that are

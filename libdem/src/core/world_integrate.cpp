@@ -6,7 +6,7 @@
 #include <limits>
 #include <sstream>
 
-#include <dem/core/errors.hpp>
+#include <dem/base/errors.hpp>
 #include <dem/core/world.hpp>
 
 #include "leapfrog.hpp"
@@ -58,7 +58,7 @@ void World::integrate() {
     const std::int64_t team = 1, me = 0;
 #endif
     const std::int64_t groups = (n + 7) / 8;
-    const std::vector<double>* fraction = team > 1 ? &thread_fractions_ : nullptr;  // by speed (plan_shares)
+    const std::vector<double>* fraction = team > 1 ? &plan_.thread_fractions() : nullptr;  // by speed (StepPlan)
     const std::int64_t begin = first + std::min(n, 8 * share_begin(groups, fraction, team, me));
     const std::int64_t end = first + std::min(n, 8 * share_begin(groups, fraction, team, me + 1));
     detail::LeapfrogTally tally{travel_sq, near_travel_sq, bad};
@@ -198,7 +198,7 @@ std::pair<const World::PebbleSlot*, const World::PebbleSlot*> World::pebbles_of_
   const PebbleSlot* const slots_end = slots + pebbles_in_storage_.size();
   const auto n = static_cast<std::int64_t>(state_.particles.size());
   const std::int64_t groups = (n + 7) / 8;
-  const std::vector<double>* fraction = team > 1 ? &thread_fractions_ : nullptr;
+  const std::vector<double>* fraction = team > 1 ? &plan_.thread_fractions() : nullptr;
   const std::int64_t begin = std::min(n, 8 * share_begin(groups, fraction, team, me));
   const std::int64_t end = std::min(n, 8 * share_begin(groups, fraction, team, me + 1));
   const auto by_index = [](const PebbleSlot& s, std::int64_t i) { return s.index < i; };

@@ -6,7 +6,8 @@
 #include <string>
 #include <type_traits>
 
-#include <dem/core/errors.hpp>
+#include <dem/base/errors.hpp>
+#include <dem/core/pair_geometry.hpp>
 #include <dem/core/world.hpp>
 
 namespace dem {
@@ -28,7 +29,7 @@ void visit_touching(const PairContacts& c, const ParticleStore& p, const Contact
     if (c.normal_force[k] <= 0.0) continue;
     const auto i = static_cast<std::size_t>(c.first[k]);
     const auto j = static_cast<std::size_t>(c.second[k]);
-    const Vec3 d = p.x[j] - p.x[i];
+    const Vec3 d = branch(p.x.data(), i, j);
     const double dist = d.norm();
     ContactView v{c.kind, i, static_cast<std::int64_t>(j), d / dist, Vec3::Zero(), c.force[k], c.normal_force[k]};
     const double overlap = p.radius[i] + p.radius[j] - dist;

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <string>
 
-#include "dem/core/errors.hpp"
+#include "dem/base/errors.hpp"
 #include "dem/geometry/triangle.hpp"
 
 namespace dem::geometry {

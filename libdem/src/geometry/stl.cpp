@@ -16,7 +16,7 @@
 #include <utility>
 #include <vector>
 
-#include "dem/core/errors.hpp"
+#include "dem/base/errors.hpp"
 #include "dem/geometry/triangle.hpp"
 
 namespace dem::geometry {

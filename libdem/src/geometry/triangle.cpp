@@ -5,7 +5,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "dem/core/errors.hpp"
+#include "dem/base/errors.hpp"
 
 namespace dem::geometry {
 

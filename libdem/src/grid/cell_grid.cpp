@@ -5,7 +5,7 @@
 
 #include <omp.h>
 
-#include <dem/core/parallel.hpp>
+#include <dem/base/threads.hpp>
 
 namespace dem {
 

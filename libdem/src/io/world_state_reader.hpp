@@ -11,8 +11,8 @@
 #include <utility>
 #include <vector>
 
-#include <dem/core/errors.hpp>
-#include <dem/contact/contact_model.hpp>
+#include <dem/base/errors.hpp>
+#include <dem/core/contact_model.hpp>
 #include <dem/core/world_state.hpp>
 
 namespace dem::checkpoint {

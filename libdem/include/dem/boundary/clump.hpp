@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <vector>
 
-#include <dem/core/math.hpp>
+#include <dem/base/math.hpp>
 #include <dem/core/particles.hpp>
 
 namespace dem {

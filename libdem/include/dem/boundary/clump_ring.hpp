@@ -28,8 +28,8 @@
 #include <cstdint>
 #include <vector>
 
+#include <dem/base/math.hpp>
 #include <dem/boundary/clump.hpp>
-#include <dem/core/math.hpp>
 #include <dem/core/particles.hpp>
 
 namespace dem {

@@ -14,7 +14,7 @@
 #include <cstdint>
 #include <string>
 
-#include <dem/core/math.hpp>
+#include <dem/base/math.hpp>
 #include <dem/geometry/mesh.hpp>
 
 namespace dem {

@@ -1,22 +1,22 @@
-// Storage of the contacts of one contact type: the candidate pairs found by the broad phase
-// (a Verlet list: pairs closer than the sum of radii plus the skin), the contact law's history
-// for each of them, and the forces of the last step that recorded them (World::ContactRecords).
+// What the contacts of one contact type are: the candidate pairs found by the broad phase (a
+// Verlet list: pairs closer than the sum of radii plus the skin), the contact law's history for
+// each of them, the forces of the last step that recorded them (World::ContactRecords), and which
+// ones touch. How a step shares them out between threads and processes (near lists, thread
+// shares, deferred sums) is the engine's plan, not theirs (core/step_plan.hpp).
 //
 // The history is a byte buffer with one law State per candidate, created and copied only through
-// the law-typed ContactModel (contact_model.hpp). A candidate that is not touching holds a fresh
-// State, so history lives exactly as long as the contact (docs/model.md 1.1: history resets when the
-// pieces separate). Forces are written per contact and added into the particles in contact
-// order, which makes results independent of the thread count.
+// the law-typed ContactModel (core/contact_model.hpp). A candidate that is not touching holds a
+// fresh State, so history lives exactly as long as the contact (docs/model.md 1.1: history resets
+// when the pieces separate). Forces are written per contact and added into the particles in
+// contact order, which makes results independent of the thread count.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
-#include <utility>
 #include <vector>
 
+#include <dem/base/math.hpp>
 #include <dem/contact/kinematics.hpp>
-#include <dem/contact/lanes.hpp>
-#include <dem/core/math.hpp>
 
 namespace dem {
 
@@ -32,50 +32,19 @@ struct StateBuffer {
   const std::byte* at(std::size_t k) const { return bytes.data() + k * stride; }
 };
 
-/// One contact's part of a particle's force and torque sums, left by a thread for the engine to
-/// add after the earlier threads' parts (the serial contact order): piece 1 gets -force, piece 2
-/// +force.
-struct DeferredSum {
-  std::int32_t particle;
-  bool first_piece;
-  Lane3 force;   // N, on piece 2
-  Lane3 torque;  // N m, on this particle about its centre
-};
-
 /// Ball-ball or ball-pebble candidates. Piece 1 (`first`) is always a ball.
 struct PairContacts {
   ContactKind kind = ContactKind::BallBall;
   std::vector<std::int32_t> first, second;  // storage indices of the two pieces
   StateBuffer state;
-  /// The forces of the last step that recorded them (KernelContext::record_pair_forces; a World
-  /// records on the steps after which they can be read, World::ContactRecords).
+  /// The forces of the last step that recorded them (a World records them on the steps after
+  /// which they can be read, World::ContactRecords).
   std::vector<Vec3> force;           // N, on piece 2 (piece 1 gets -force)
   std::vector<double> normal_force;  // N, elastic, compression positive; 0 if not touching
   /// 1 where the contact touched in the last step (non-zero normal force or force), written every
   /// step: a contact the loops must end when it separates, and whose history a rebuild keeps. One
   /// byte, so that finding those costs the loops little memory traffic.
   std::vector<std::uint8_t> touching;
-  /// The candidates that can touch before the World next refreshes this list, ascending: the
-  /// others are more than a near skin apart (WorldSettings::near_skin), so the loops skip them.
-  /// In a dense packing about a quarter of the candidates are that far apart.
-  std::vector<std::int32_t> near;
-  /// With several threads, thread t takes the contacts [shares[t], shares[t + 1]) (planned by
-  /// the World, weighted by which contacts touch and by how fast each thread went, so that the
-  /// threads finish together). A thread that finishes first takes chunks of steal_chunk near
-  /// candidates from the end of another's share (contact_loops.hpp).
-  std::vector<std::int64_t> shares;
-  /// Per share, its longest run of contacts [begin, end) whose particles no other share touches
-  /// (World::plan_shares): a later share adds their sums directly, without asking per particle
-  /// whether to defer them (the answer is no for every one).
-  std::vector<std::pair<std::int64_t, std::int64_t>> unshared_run;
-  /// Per thread: the near candidates it computed since the plan, and the seconds it took (the
-  /// next plan gives a thread on a faster core a larger share).
-  std::vector<std::int64_t> share_done;
-  std::vector<double> share_seconds;
-  /// Scratch of a threaded step: share t's parts of the particles shared with earlier shares
-  /// (KernelContext::shared), and every part of each chunk another thread took (one list per
-  /// chunk, in contact order), added after the loop in contact order.
-  std::vector<std::vector<DeferredSum>> deferred, taken;
   /// Per-particle incidence (CSR): particle i's contacts are the entries
   /// [incidence_offsets[i], incidence_offsets[i + 1]) of incidence_entries, each contact * 2 + side
   /// (side 1: i is piece 2), in contact order. Made with the list; restart files hold it.
@@ -93,18 +62,10 @@ inline void mark_touching(PairContacts& c) {
 
 /// The torque on piece 2 about its centre, from the force on it and the torque on piece 1: the
 /// two differ by the moment of the force over the branch d = x2 - x1 (T1 + T2 = -d x F), so a
-/// contact stores only T1. Serial steps and the threaded gather both use this, for the same bits.
+/// contact stores only T1. `branch` comes from the engine's pair geometry (core/pair_geometry.hpp).
 inline Vec3 second_torque(const Vec3& branch, const Vec3& force, const Vec3& torque_first) {
   return -branch.cross(force) - torque_first;
 }
-
-/// A ball-facet candidate's closest-point search on one triangle costs about this many pair
-/// candidates: the wall loop weighs its triangle tests by it when choosing threads, and a spread
-/// World when it balances its subdomains.
-inline constexpr std::int64_t triangle_test_weight = 4;
-/// An analytic-wall candidate (one closest-point formula, then the law) costs about this many pair
-/// candidates: 25 against 17 ns a candidate on the 14k benchmark. Used as triangle_test_weight is.
-inline constexpr std::int64_t analytic_wall_weight = 2;
 
 /// Ball-wall candidates: one per (ball, wall). For mesh walls, with the wall's triangles near that
 /// ball: a ball gets a single contact per wall at the closest point of those triangles, so a ball
@@ -123,12 +84,6 @@ struct WallContacts {
   std::vector<double> normal_force;  // N, elastic, compression positive; 0 if not touching
   std::vector<double> normal_stiffness;  // N/m, 0 if not touching
   std::size_t size() const { return ball.size(); }
-};
-
-/// Worst contact of a step, for the instability check.
-struct OverlapMonitor {
-  double ratio = 0.0;    // overlap / radius of the smaller piece
-  std::int64_t contact = -1;
 };
 
 }  // namespace dem

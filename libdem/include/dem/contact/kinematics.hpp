@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <limits>
 
-#include <dem/core/math.hpp>
+#include <dem/base/math.hpp>
 
 namespace dem {
 

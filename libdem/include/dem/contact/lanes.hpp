@@ -19,8 +19,8 @@
 // written with Lane3 or with Vec3.
 #pragma once
 
+#include <dem/base/math.hpp>
 #include <dem/contact/kinematics.hpp>
-#include <dem/core/math.hpp>
 
 // The force functions run once per contact per step inside the engine's templated loop; GCC's
 // heuristics otherwise keep them out of line, which costs about a third of the step. A law's own

@@ -13,10 +13,10 @@
 #include <cmath>
 #include <string>
 
-#include <dem/contact/contact_model.hpp>
+#include <dem/base/errors.hpp>
+#include <dem/contact/contact_law.hpp>
 #include <dem/contact/kinematics.hpp>
 #include <dem/contact/lanes.hpp>
-#include <dem/core/errors.hpp>
 
 namespace dem {
 
@@ -264,12 +264,5 @@ struct RollingLinearLaw {
     return to_contact_force(force_lanes(p, lane(k), state));
   }
 };
-
-// The linear laws' contact loops are compiled once, in the library (src/contact/linear_laws.cpp):
-// a program that sets these laws compiles none of the loop templates, and every program runs the
-// same machine code for them.
-extern template std::shared_ptr<const ContactModel> make_contact_model<LinearLaw>(const LinearLaw::Params&, const std::string&);
-extern template std::shared_ptr<const ContactModel> make_contact_model<RollingLinearLaw>(const RollingLinearLaw::Params&,
-                                                                                        const std::string&);
 
 }  // namespace dem

@@ -2,7 +2,8 @@
 // closer than the sum of radii plus the skin, and every ball within its radius plus the skin of a
 // wall's triangles), remade only when something has moved far enough to matter, with each
 // touching contact's history carried over by stable particle ids; and, inside those, the near
-// lists that the contact loops run over (candidates within a smaller near skin, remade more often).
+// lists that the contact loops run over (candidates within a smaller near skin, remade more often),
+// which it writes into the step's plan (StepPlan).
 //
 // The lists and the record of the last rebuild are part of the WorldState (a resumed run rebuilds
 // at the same steps); the cell grid and the near lists are derived and remade after a load.
@@ -11,7 +12,8 @@
 #include <cstdint>
 #include <vector>
 
-#include <dem/contact/contact_model.hpp>
+#include <dem/core/contact_model.hpp>
+#include <dem/core/step_plan.hpp>
 #include <dem/core/world_state.hpp>
 #include <dem/grid/cell_grid.hpp>
 
@@ -32,8 +34,8 @@ class BroadPhase {
   /// True when the near lists must be remade: after a rebuild or a load, or when a particle has
   /// moved half the near skin since they were made.
   bool near_stale() const;
-  /// Remakes the near lists of the pair contacts in `state`.
-  void refresh_near(WorldState& state, int threads);
+  /// Remakes the near lists of the pair contacts in `state` (PairPlan::near of `plan`).
+  void refresh_near(const WorldState& state, StepPlan& plan, int threads);
   /// The near lists no longer match the contact lists (a load replaced them).
   void invalidate_near() { near_stale_ = true; }
 

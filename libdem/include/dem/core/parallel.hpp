@@ -1,4 +1,6 @@
-// Small parallel helpers every floor may use (the ground floor of the house: no engine types).
+// The thread plan's helpers: how the engine shares a loop between threads by the speed each showed
+// (speed_fractions, share_begin, split_work) and how a thread that is done takes work from another
+// (ChunkQueue). threads_for, which every floor may use, is on the ground floor (base/threads.hpp).
 #pragma once
 
 #include <algorithm>
@@ -7,15 +9,9 @@
 #include <cstdint>
 #include <vector>
 
-namespace dem {
+#include <dem/base/threads.hpp>
 
-/// Threads worth using for a loop of `count` items: small loops run serially, since starting a
-/// parallel region costs more than it saves (and oversubscribed cores make it far worse). From a
-/// thousand items on, a loop is split even where one core could do it alone: on one thread of a
-/// team it would also read every line the other threads wrote in the loop before (the 1,750-ball
-/// benchmark's leapfrog: 10 us a step on one thread alone, 20 us on one thread of two, 9 us split).
-inline constexpr std::int64_t min_parallel_items = 1024;
-inline int threads_for(std::int64_t count, int threads) { return count >= min_parallel_items ? threads : 1; }
+namespace dem {
 
 /// The fraction of a loop's work to give each of `work.size()` threads, from what each did last
 /// time: `work[t]` units in `seconds[t]` s. In proportion to the speeds, so that threads on cores

@@ -14,7 +14,7 @@
 #include <cstdint>
 #include <vector>
 
-#include <dem/core/math.hpp>
+#include <dem/base/math.hpp>
 
 namespace dem {
 

@@ -1,6 +1,8 @@
 // The World owns a simulation: its state (WorldState: particles, clumps, walls, the contact sets
-// and the clock), the contact model of each contact kind, and the broad phase (BroadPhase) that
-// keeps the contact lists. There are no globals: two Worlds are independent.
+// and the clock), the contact model of each contact kind, and the parts it delegates to: the
+// broad phase (BroadPhase) that keeps the contact lists, the step's plan (StepPlan: near lists,
+// threads' shares, ownership) and, when spread over processes, the subdomains
+// (parallel::Subdomains). There are no globals: two Worlds are independent.
 //
 // A step (leapfrog, as PFC's velocity Verlet with velocities half a step behind, docs/model.md 2):
 //   1. rebuild the Verlet lists if something moved more than allowed by the skin, and refresh
@@ -29,20 +31,18 @@
 #include <variant>
 #include <vector>
 
-#include <dem/contact/contact_model.hpp>
 #include <dem/core/broad_phase.hpp>
+#include <dem/core/contact_model.hpp>
 #include <dem/core/damping_frame.hpp>
+#include <dem/core/step_plan.hpp>
 #include <dem/core/world_state.hpp>
 
 namespace dem::parallel {
 class DomainComm;
-}
+class Subdomains;
+}  // namespace dem::parallel
 
 namespace dem {
-
-namespace detail {
-struct Subdomains;
-}
 
 /// Wall-clock seconds spent in each part of the step, summed over the steps since the World was
 /// made or reset_step_timing() (not part of the saved state). For benchmarks: where a step's time
@@ -198,6 +198,8 @@ class World {
 
   // --- internals exposed for checkpoints and tests --------------------------------------------
   const PairContacts& pair_contacts(ContactKind kind) const;
+  /// How the last step shared out a pair set (near list, threads' shares, deferred parts).
+  const PairPlan& pair_plan(ContactKind kind) const { return plan_.pairs(kind); }
   const WallContacts& wall_contacts() const {
     if (domains_) require_whole("wall_contacts()");
     return state_.contacts.ball_facet;
@@ -222,7 +224,6 @@ class World {
   void rebuild(bool resort);
   /// The contact forces of this step; `record_pair_forces`: the pair contacts' records too.
   void compute_forces(bool record_pair_forces);
-  void plan_shares();
   void integrate();
   /// Places every pebble where its clump puts it, each thread the pebbles stored in its range of
   /// the integration (the particles whose forces it mostly summed), after the clumps moved.
@@ -248,7 +249,8 @@ class World {
   /// overlap when it is softer than the stiffest, or the load).
   [[noreturn]] void fail(const std::string& what, std::size_t particle, std::optional<ContactKind> kind = std::nullopt) const;
 
-  // Spread over processes (world_domains.cpp); each does nothing in one process.
+  // Spread over processes: each delegates to the Subdomains (world_domains.cpp) and does nothing
+  // in one process.
   /// std::logic_error naming `what` when a spread World is read between a step that ended with
   /// StepEnd::WallsAndClumps (or, during a step, from a controller) and the next gather.
   void require_whole(const char* what) const;
@@ -287,16 +289,8 @@ class World {
   std::vector<std::function<void(World&)>> controllers_;
   std::vector<std::pair<std::int64_t, std::function<void(World&)>>> callbacks_;
   StepTiming timing_;
-  std::shared_ptr<parallel::DomainComm> comm_;     // null: one process
-  std::shared_ptr<detail::Subdomains> domains_;    // the plan of a spread World
-  // With several threads: the particles whose pair contacts fall in more than one thread's share
-  // (KernelContext::shared), planned with the shares after every rebuild and every few hundred steps.
-  std::vector<std::uint8_t> shared_;
-  bool share_plan_stale_ = true;
-  std::int64_t shares_planned_at_ = 0;  // step of the plan
-  // Each thread's fraction of a loop's work, from the speeds its ball-ball share showed (thread t
-  // stays on one core when bound): the wall loop and the integration split by it too. Empty: equal.
-  std::vector<double> thread_fractions_;
+  StepPlan plan_;
+  std::shared_ptr<parallel::Subdomains> domains_;  // null: one process
   ContactRecords contact_records_ = ContactRecords::WhenRead;
   bool pair_records_current_ = true;  // the last step recorded the pair contacts' forces
   // Where the pebbles are stored, so that a step looks up no ids: the pebbles in storage order,

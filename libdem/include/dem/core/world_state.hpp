@@ -2,8 +2,8 @@
 // walls, the contact lists of each kind with their law history, and the broad phase's record of
 // the last rebuild. A restart file holds exactly this (io/world_state.hpp), so a run resumed from
 // it continues bit for bit. What is not here is code or derived data: contact models,
-// controllers, callbacks, the damping frame, the thread count, the cell grid, the near lists and
-// the thread plan (remade on the next step).
+// controllers, callbacks, the damping frame, the thread count, the cell grid, and the step's plan
+// (StepPlan: near lists, threads' shares; remade on the next step).
 #pragma once
 
 #include <cstdint>

@@ -15,7 +15,7 @@
 #include <utility>
 #include <vector>
 
-#include "dem/core/math.hpp"
+#include "dem/base/math.hpp"
 
 namespace dem::geometry {
 

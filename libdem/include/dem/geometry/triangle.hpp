@@ -18,7 +18,7 @@
 
 #include <string>
 
-#include "dem/core/math.hpp"
+#include "dem/base/math.hpp"
 
 namespace dem::geometry {
 

@@ -165,7 +165,7 @@ Calibration::Calibration(io::Config config, CalibrationSettings settings, LabCur
     require(settings_.threads >= 1, "--threads", settings_.threads, ">= 1");
     require(settings_.parallel_trials >= 1, "--parallel-trials", settings_.parallel_trials, ">= 1");
     start_ = {config_.real("ball_ball.effective_modulus"), config_.real("ball_ball.friction"), config_.real("ball_ball.rolling_friction")};
-    // The fitted parameters are the linear laws' E*, mu and mu_r (contact/law_registry.hpp roles).
+    // The fitted parameters are the linear laws' E*, mu and mu_r (core/law_registry.hpp roles).
     const LawEntry& law = contact_law(config_.text("ball_ball.law"), "ball_ball.law");
     require(law.roles.stiffness == "effective_modulus" && law.roles.friction == "friction", "ball_ball.law", law.keyword,
             "a law with effective_modulus and friction to fit (rrlinear or linear)");

@@ -46,7 +46,7 @@ ContactTypeConfig ContactTypeConfig::rolling_linear(double effective_modulus, do
 
 void ContactTypeConfig::set_role(const std::string& name, const char* role, double value) {
   require(!name.empty(), std::string("the ") + role + " of contact law " + law, value,
-          "not set: the law has no such parameter (contact/law_registry.hpp)");
+          "not set: the law has no such parameter (core/law_registry.hpp)");
   parameters.set(name, value);
 }
 

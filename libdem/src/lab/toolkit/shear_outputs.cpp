@@ -2,6 +2,7 @@
 
 #include <cstdio>
 
+#include <dem/core/pair_geometry.hpp>
 #include <dem/lab/toolkit/fabric_log.hpp>
 #include <dem/lab/toolkit/snapshots.hpp>
 #include <dem/measure/shear_uniformity.hpp>
@@ -26,7 +27,7 @@ std::size_t contacts_within_gap(const World& w, ContactKind kind, double gap) {
   std::size_t n = 0;
   for (std::size_t k = 0; k < pairs.size(); ++k) {
     const auto i = static_cast<std::size_t>(pairs.first[k]), j = static_cast<std::size_t>(pairs.second[k]);
-    if ((p.x[j] - p.x[i]).norm() - p.radius[i] - p.radius[j] < gap) ++n;
+    if (branch(p.x.data(), i, j).norm() - p.radius[i] - p.radius[j] < gap) ++n;
   }
   return n;
 }

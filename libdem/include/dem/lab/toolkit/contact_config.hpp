@@ -1,5 +1,5 @@
 // A contact type's section of a configuration ([ball_ball], [ball_facet], [ball_pebble]): the law
-// it uses, by keyword (contact/law_registry.hpp), and that law's parameters as keys of the
+// it uses, by keyword (core/law_registry.hpp), and that law's parameters as keys of the
 // section. The section declares the keys of every registered law; a run reads the chosen law's.
 #pragma once
 
@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include <dem/contact/law_registry.hpp>
+#include <dem/core/law_registry.hpp>
 #include <dem/io/config.hpp>
 
 namespace dem::lab {

@@ -1,5 +1,5 @@
-// The built-in laws' rows (the recipe for a new one is atop contact/law_registry.hpp).
-#include <dem/contact/law_registry.hpp>
+// The built-in laws' rows (the recipe for a new one is atop core/law_registry.hpp).
+#include <dem/core/law_registry.hpp>
 
 #include <stdexcept>
 

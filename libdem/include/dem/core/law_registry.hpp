@@ -1,13 +1,15 @@
 // The contact laws by keyword: what a configuration's `<contact type>.law` key names, with the
 // parameters each law reads from the keys of that section. Apps, protocols and Python choose a law
-// here; the engine only ever sees the ContactModel a row makes (contact_model.hpp).
+// here; the engine only ever sees the ContactModel a row makes (contact_model.hpp). The laws
+// themselves are plain types in contact/; the registry binds each to the engine's loops, so it sits
+// on core's floor, the first that knows both.
 //
 // Adding a law:
 //   1. Write its header in contact/, a plain type like the laws of linear_law.hpp: Params (SI,
 //      validate(where)), State (its per-contact history), name, force and stiffness (the
-//      ContactLaw concept of contact_model.hpp), and a physics test in tests/physics/ against an
+//      ContactLaw concept of contact/contact_law.hpp), and a physics test in tests/physics/ against an
 //      analytic result.
-//   2. Add one row to contact_laws() in src/contact/law_registry.cpp: its keyword, one line of
+//   2. Add one row to contact_laws() in src/core/law_registry.cpp: its keyword, one line of
 //      help, its parameters (each one a key of the contact type's section: name, SI unit, range,
 //      help, default), the parameters that play the roles protocols vary (LawRoles), and the
 //      function that turns the values into its ContactModel.
@@ -24,7 +26,7 @@
 #include <string>
 #include <vector>
 
-#include <dem/contact/contact_model.hpp>
+#include <dem/core/contact_model.hpp>
 
 namespace dem {
 

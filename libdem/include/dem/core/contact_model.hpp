@@ -1,47 +1,36 @@
-// Pluggable contact laws. A law is a plain type (STYLE.md section 3):
+// A contact law bound to its parameters and to the engine's loops: the ContactModel that a World
+// runs for one contact type. A law (contact/contact_law.hpp) knows its two pieces; the model runs it
+// over the contacts of a step, with the step's plan (core/step_plan.hpp: threads, shares,
+// processes), so the laws stay free of all of that.
 //
-//   struct MyLaw {
-//     struct Params { ...; void validate(const std::string& where) const; };   // SI
-//     struct State  { ... };   // per-contact history; a value-initialised State is a fresh contact
-//     static constexpr const char* name = "my-law";
-//     static ContactForce force(const Params&, const ContactKinematics&, State&);
-//     static ContactStiffness stiffness(const Params&, const ContactKinematics&);
-//   };
+//   world.set_contact_model(dem::ContactKind::BallBall,
+//       dem::make_contact_model<dem::RollingLinearLaw>(params, "ball-ball"));
 //
-// and `make_contact_model<MyLaw>(params)` turns it into a ContactModel that the World uses for one
-// contact type (its loops are in dem/core/contact_loops.hpp: include that, or dem/dem.hpp, where
-// you call it for a law of your own; the built-in laws' loops are compiled in the library). The choice of law is made at run time, once per contact type; the loop over the
-// contacts of that type is a template on the concrete law (run-time choice, compile-time loop),
-// so a new law costs no engine edit and no virtual call per contact.
+// make_contact_model's loops are in dem/core/contact_loops.hpp: include that, or dem/dem.hpp,
+// where you call it for a law of your own; the built-in laws' loops are compiled in the library.
 #pragma once
 
 #include <array>
-#include <concepts>
 #include <cstdint>
 #include <limits>
 #include <memory>
-#include <new>
 #include <string>
-#include <type_traits>
+#include <vector>
 
+#include <dem/contact/contact_law.hpp>
 #include <dem/contact/contact_sets.hpp>
 #include <dem/contact/kinematics.hpp>
-#include <dem/core/parallel.hpp>
+#include <dem/contact/linear_law.hpp>
+#include <dem/core/step_plan.hpp>
 
 namespace dem {
 
 struct ParticleStore;
 struct Wall;
 
-template <class L>
-concept ContactLaw = requires(const typename L::Params& p, const ContactKinematics& k, typename L::State& s) {
-  { L::force(p, k, s) } -> std::same_as<ContactForce>;
-  { L::stiffness(p, k) } -> std::same_as<ContactStiffness>;
-  { p.validate(std::string{}) };
-  { L::name } -> std::convertible_to<const char*>;
-} && std::is_trivially_destructible_v<typename L::State> && std::is_default_constructible_v<typename L::State>;
-
-/// Everything a contact kernel needs besides the contacts themselves.
+/// What one call of the contact loops reads and writes besides its contacts, made by the World for
+/// each step: the particles, walls and time step, where the sums go, and the step's plan
+/// (StepPlan, which owns it) as the loops read it.
 struct KernelContext {
   const ParticleStore* particles = nullptr;
   const std::vector<Wall>* walls = nullptr;
@@ -49,16 +38,16 @@ struct KernelContext {
   int threads = 1;
   /// Per-particle sums (N, N m) that the pair loops add each contact's force and torque into,
   /// in contact order. With several threads (`shared` set), thread t takes the contacts
-  /// PairContacts::shares[t] to shares[t + 1], and a particle whose contacts fall in more than one
-  /// share is marked in `shared`: the first share adds into it directly, the later ones leave
-  /// their parts in PairContacts::deferred, which are added after the loop, share by share (no
-  /// two threads ever write one particle). Every particle's sum is then the serial one, bit for
-  /// bit, for any thread count.
+  /// PairPlan::shares[t] to shares[t + 1], and a particle whose contacts fall in more than one
+  /// share is marked in `shared` (StepPlan::shared): the first share adds into it directly, the
+  /// later ones leave their parts in PairPlan::deferred, which are added after the loop, share by
+  /// share (no two threads ever write one particle). Every particle's sum is then the serial one,
+  /// bit for bit, for any thread count.
   Vec3* scatter_force = nullptr;
   Vec3* scatter_torque = nullptr;
   const std::uint8_t* shared = nullptr;  // null: one thread, nothing shared
-  /// Each thread's fraction of a loop's work, in proportion to the speed it showed in the pair
-  /// loop (cores of one machine can differ by a third); null, or not one per thread: equal.
+  /// Each thread's fraction of a loop's work (StepPlan::thread_fractions); null, or not one per
+  /// thread: equal.
   const std::vector<double>* thread_fractions = nullptr;
   /// Whether the pair loops write each contact's force and normal force (PairContacts::force,
   /// normal_force) this step: only on steps after which they can be read (World::ContactRecords).
@@ -70,10 +59,16 @@ struct KernelContext {
   /// in the cache of the core that wrote them. Null: the World adds them after the loops (as a
   /// World spread over processes must, once the subdomains have shared their records).
   std::vector<Wall>* wall_totals = nullptr;
-  /// A World spread over processes (World::spread_over) computes the wall contacts of its own
-  /// balls only, storage indices [owned_begin, owned_end); the others keep their records.
+  /// The wall loops compute the contacts of this process's balls only, storage indices
+  /// [owned_begin, owned_end) (StepPlan::owned_begin); the others keep their records.
   std::int64_t owned_begin = 0;
   std::int64_t owned_end = std::numeric_limits<std::int64_t>::max();
+};
+
+/// Worst contact of a step, for the instability check.
+struct OverlapMonitor {
+  double ratio = 0.0;    // overlap / radius of the smaller piece
+  std::int64_t contact = -1;
 };
 
 /// A contact law bound to its parameters, for one contact type.
@@ -82,8 +77,10 @@ class ContactModel {
   virtual ~ContactModel() = default;
   virtual const char* law_name() const = 0;
 
-  /// Computes the forces of all pair candidates (ball-ball or ball-pebble) into `contacts`.
-  virtual void compute(PairContacts& contacts, const KernelContext& ctx, OverlapMonitor& worst) const = 0;
+  /// Computes the forces of all pair candidates (ball-ball or ball-pebble) into `contacts`, over
+  /// the near candidates and threads' shares of `plan`.
+  virtual void compute(PairContacts& contacts, PairPlan& plan, const KernelContext& ctx,
+                       OverlapMonitor& worst) const = 0;
   /// Computes the forces of all ball-facet candidates into `contacts`.
   virtual void compute(WallContacts& contacts, const KernelContext& ctx, OverlapMonitor& worst) const = 0;
   /// Stiffnesses of one contact, for time-step estimates.
@@ -105,5 +102,12 @@ template <ContactLaw Law>
 std::shared_ptr<const ContactModel> make_contact_model(const typename Law::Params& params,
                                                        const std::string& where = "contact");
 
-}  // namespace dem
+// The linear laws' loops are compiled once, in the library (src/core/builtin_law_loops.cpp): a
+// program that sets these laws compiles none of the loop templates, and every program runs the
+// same machine code for them.
+extern template std::shared_ptr<const ContactModel> make_contact_model<LinearLaw>(const LinearLaw::Params&,
+                                                                                 const std::string&);
+extern template std::shared_ptr<const ContactModel> make_contact_model<RollingLinearLaw>(
+    const RollingLinearLaw::Params&, const std::string&);
 
+}  // namespace dem
