@@ -93,6 +93,8 @@ int main(int argc, char** argv) {
   opts.add_options()("help", "this help")("packing", po::value(&packing), "packing file: x y z radius (m) per line")(
       "steps", po::value(&steps)->default_value(0), "timed steps (0: the peers' count for this size)")(
       "threads", po::value(&threads)->default_value(1), "OpenMP threads")(
+      "pin-threads", "keep the team at --threads every step (the engine otherwise runs a step on fewer while that is "
+      "faster, as on a busy machine: core/thread_team.hpp)")(
       "segments", po::value<int>()->default_value(360), "facets around the cylinder side wall")(
       "report-every", po::value<long>()->default_value(0), "print contacts and stress every N steps (0: never)")(
       "rebuilds", po::value(&rebuilds)->default_value(0),
@@ -161,6 +163,7 @@ int main(int argc, char** argv) {
     s.gravity = Vec3(0, 0, -9.81);
     s.skin = 0.25 * d_min;
     s.threads = threads;
+    s.adapt_threads = vm.count("pin-threads") == 0;
     World world(s);
     for (const auto& b : balls) world.add_ball(b);
     // The input copy (96 B per ball) is the benchmark's, not the library's: drop it before the
@@ -208,8 +211,10 @@ int main(int argc, char** argv) {
     world.reset_step_timing();
     const std::uint64_t sent0 = domains ? domains->bytes_sent() : 0;
     const auto ticks0 = bench::CpuTicks::now();
+    const std::int64_t regions0 = parallel_regions().load();
     const auto t0 = std::chrono::steady_clock::now();
     world.step(steps);
+    const std::int64_t regions = parallel_regions().load() - regions0;
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const double steal = bench::steal_fraction(ticks0, bench::CpuTicks::now());
     struct rusage usage {};
@@ -218,6 +223,11 @@ int main(int argc, char** argv) {
     std::printf("balls: %zu\nsteps: %ld\ntime_step_s: %.3g\ngamma_n_per_s: %.4g\nskin_m: %.3g\nthreads: %d\n", ball_count,
                 steps, dt, gamma_n, 0.25 * d_min, world.threads());
     std::printf("ranks: %d\n", world.ranks());
+    // Parallel regions per step: each ends in a barrier where the threads wait for the slowest.
+    std::printf("parallel_regions_per_step: %.2f\n", static_cast<double>(regions) / static_cast<double>(steps));
+    // Steps the adapting team ran on fewer threads than --threads (a busy machine).
+    std::printf("steps_on_fewer_threads: %lld\n",
+                static_cast<long long>(world.step_count() - world.thread_team().steps_on(world.threads())));
     // What rank 0 sent per step of the loop (ghosts, gathered sums, the rebuilds' and the end's
     // synchronisation), bytes.
     if (domains) std::printf("sent_bytes_per_step: %.0f\n", static_cast<double>(domains->bytes_sent() - sent0) / static_cast<double>(steps));

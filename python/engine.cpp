@@ -136,7 +136,11 @@ void bind_engine(py::module_& m) {
       .def_readwrite("skin", &WorldSettings::skin, "Verlet skin (m); 0: half the smallest ball radius")
       .def_readwrite("sort_every", &WorldSettings::sort_every,
                      "Re-sort the particles in cell order every this many neighbour-list rebuilds (0: never)")
-      .def_readwrite("threads", &WorldSettings::threads, "OpenMP threads; 0: OMP_NUM_THREADS (results do not depend on it)")
+      .def_readwrite("threads", &WorldSettings::threads,
+                     "Threads of the team; 0: auto, the cores this process may run on (OMP_NUM_THREADS where set). "
+                     "Results do not depend on it")
+      .def_readwrite("adapt_threads", &WorldSettings::adapt_threads,
+                     "A step runs on fewer threads while that is faster, as on a busy machine (default True; speed only)")
       .def_readwrite("max_overlap_ratio", &WorldSettings::max_overlap_ratio,
                      "Overlap over the smaller radius that stops a step with InstabilityError (-, default 1)")
       .def_readwrite("max_step_travel_ratio", &WorldSettings::max_step_travel_ratio,
@@ -452,7 +456,9 @@ void bind_engine(py::module_& m) {
       .def("critical_time_step", &World::critical_time_step, "Critical time step estimate min over bodies of sqrt(m/K) (s)")
       .def("update_time_step", &World::update_time_step,
            "Re-estimates the automatic time step now (after generation or a stiffness change)")
-      .def_property_readonly("threads", &World::threads, "OpenMP threads the steps use")
+      .def_property_readonly("threads", &World::threads, "The thread team (a step may run on fewer while the machine is busy)")
+      .def("steps_on_threads", [](const World& w, int size) { return w.thread_team().steps_on(size); }, py::arg("size"),
+           "Steps run so far on `size` threads (the team runs on fewer while that is faster)")
       .def("kinetic_energy", &World::kinetic_energy, "Translational and rotational kinetic energy of balls and clumps (J)")
       .def("unbalanced_force_ratio", &World::unbalanced_force_ratio,
            "Mean unbalanced force on free balls over the mean contact normal force (-, PFC's ratio)")

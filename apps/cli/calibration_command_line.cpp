@@ -61,8 +61,8 @@ std::optional<CalibrationCommandLine> parse_calibration_command_line(int argc, c
   }
   lab::CalibrationSettings settings = lab::calibration_settings(config);
   lab::parse_fit_list(vm["fit"].as<std::string>(), settings);
-  const long threads = config.integer("engine.threads");
-  settings.threads = threads > 0 ? static_cast<int>(threads) : std::max(1, omp_get_max_threads());
+  const int threads = lab::thread_count(config.text("engine.threads"), "engine.threads");
+  settings.threads = threads > 0 ? threads : std::max(1, omp_get_max_threads());
   settings.parallel_trials = vm["parallel-trials"].as<int>();
   require(settings.parallel_trials >= 1, "--parallel-trials", settings.parallel_trials, ">= 1");
   require(vm.count("lab") > 0, "--lab", "(missing)", "the laboratory curve CSV (see --help)");

@@ -13,7 +13,7 @@ void add_common_options(po::options_description& opts, const std::string& preset
   opts.add_options()(
       "config,c", po::value<std::string>(), config_help.c_str())(
       "set,s", po::value<std::vector<std::string>>()->composing(), ("override one key, e.g. --set " + set_example + " (repeatable)").c_str())(
-      "threads", po::value<int>(), "OpenMP threads (same as --set engine.threads=N; default OMP_NUM_THREADS)")(
+      "threads", po::value<int>(), "threads (same as --set engine.threads=N; default auto: the cores this process may run on)")(
       "print-config", "print the resolved configuration (INI) and exit");
 }
 

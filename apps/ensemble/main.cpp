@@ -4,6 +4,9 @@
 // it, so its results do not depend on where it ran. A seed whose folder holds summary.json is not
 // run again and one with restart.restart continues from it: the same command resumes.
 // scripts/ensemble runs this (--mpi N under mpirun) and writes the seeds' statistics.
+#include <omp.h>
+
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -28,7 +31,8 @@ constexpr const char* usage =
     "       mpirun -n 3 dem-ensemble --seeds 1-6 --out DIR -- --preset 2D --threads 1\n\n"
     "  --seeds LIST   seeds, e.g. 1-5 or 1,4,7 (distinct integers >= 0); seed K runs in DIR/seed_K\n"
     "  --out DIR      ensemble folder (under mpirun: on a file system every rank sees)\n"
-    "  --jobs N       seeds at a time on each process (default 1); give each --threads cores / N\n"
+    "  --jobs N       seeds at a time on each process (default 1); each gets cores / N threads unless the\n"
+    "                 options after -- set --threads or engine.threads\n"
     "Options after -- go to every seed's dem-simple-shear (not --out, --from or specimen.seed).\n"
     "A seed with DIR/seed_K/summary.json is done; one with DIR/seed_K/restart.restart continues from it.\n"
     "scripts/ensemble writes the mean and spread over the seeds (ensemble.csv, ensemble.json).\n";
@@ -76,6 +80,11 @@ bool set_by_ensemble(const std::string& arg) {
 // A seed's dem-simple-shear command line.
 std::vector<std::string> seed_arguments(const EnsembleCommandLine& cli, long seed, const fs::path& folder, bool resume) {
   std::vector<std::string> args = {"dem-simple-shear"};
+  // Seeds run side by side share the cores, unless the options choose a team themselves.
+  const bool chooses_threads = std::any_of(cli.shear_args.begin(), cli.shear_args.end(),
+                                           [](const std::string& arg) { return arg.find("threads") != std::string::npos; });
+  if (cli.jobs > 1 && !chooses_threads)
+    args.insert(args.end(), {"--set", "engine.threads=" + std::to_string(std::max(1, omp_get_max_threads() / cli.jobs))});
   args.insert(args.end(), cli.shear_args.begin(), cli.shear_args.end());
   for (const std::string& more : {std::string("--set"), "specimen.seed=" + std::to_string(seed), std::string("--out"), folder.string()})
     args.push_back(more);

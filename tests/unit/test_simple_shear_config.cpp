@@ -160,3 +160,18 @@ TEST_CASE("simple-shear keys: the checks across keys apply to a struct built in 
   text.set("generation.friction", "sticky");
   CHECK_THROWS_WITH(simple_shear_config(text), Contains("generation.friction") && Contains("sticky"));
 }
+
+TEST_CASE("engine keys: threads is auto or a count from 1 to 256, and a bad one is refused by name", "[lab][config]") {
+  io::Config c(simple_shear_schema());
+  CHECK(c.text("engine.threads") == "auto");
+  CHECK(simple_shear_config(c).engine.threads == 0);
+  CHECK(simple_shear_config(c).engine.adapt_threads);
+  c.set("engine.threads", "3");
+  CHECK(simple_shear_config(c).engine.threads == 3);
+  c.set("engine.threads", "0");  // how earlier files wrote auto
+  CHECK(simple_shear_config(c).engine.threads == 0);
+  for (const char* bad : {"two", "2.5", "-1", "257", ""}) {
+    c.set("engine.threads", bad);
+    CHECK_THROWS_WITH(simple_shear_config(c), Contains("engine.threads") && Contains("auto or a whole number"));
+  }
+}

@@ -27,7 +27,7 @@ Key pair_key(ParticleId a, ParticleId b) {
 /// outputs in range order gets the serial result for any team.
 template <class Part>
 void in_ranges(std::int64_t count, int team, const Part& part) {
-#pragma omp parallel for schedule(static) num_threads(team)
+#pragma omp parallel for schedule(static) num_threads(open_team(team))
   for (int t = 0; t < team; ++t) part(t, count * t / team, count * (t + 1) / team);
 }
 
@@ -424,7 +424,7 @@ void BroadPhase::refresh_near(const WorldState& state, StepPlan& plan, int threa
     const auto count = static_cast<std::int64_t>(c.size());
     const int threads = threads_for(count, threads_available);
     std::vector<std::vector<std::int32_t>> local(static_cast<std::size_t>(threads));
-#pragma omp parallel for schedule(static) num_threads(threads)
+#pragma omp parallel for schedule(static) num_threads(open_team(threads))
     for (int t = 0; t < threads; ++t) {
       std::vector<std::int32_t>& out = local[static_cast<std::size_t>(t)];
       const std::int64_t begin = count * t / threads, end = count * (t + 1) / threads;

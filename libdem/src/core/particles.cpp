@@ -12,7 +12,7 @@ template <class T>
 void apply_order(std::vector<T>& data, const std::vector<std::int32_t>& order, int threads) {
   std::vector<T> sorted(data.size());
   const auto n = static_cast<std::int64_t>(order.size());
-#pragma omp parallel for schedule(static) num_threads(threads)
+#pragma omp parallel for schedule(static) num_threads(open_team(threads))
   for (std::int64_t k = 0; k < n; ++k) {
     const auto at = static_cast<std::size_t>(k);
     sorted[at] = data[static_cast<std::size_t>(order[at])];
@@ -81,7 +81,7 @@ void ParticleStore::permute(const std::vector<std::int32_t>& order, int threads)
   apply_order(clump, order, team);
   apply_order(fixed, order, team);
   const auto n = static_cast<std::int64_t>(id.size());
-#pragma omp parallel for schedule(static) num_threads(team)
+#pragma omp parallel for schedule(static) num_threads(open_team(team))
   for (std::int64_t k = 0; k < n; ++k)  // ids are unique: each thread writes its own entries
     index_of_id_[static_cast<std::size_t>(id[static_cast<std::size_t>(k)])] = static_cast<std::int32_t>(k);
 }

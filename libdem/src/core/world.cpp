@@ -38,7 +38,8 @@ World::World(WorldSettings settings) {
   require_positive("max_overlap_ratio", settings.max_overlap_ratio);
   require_positive("max_step_travel_ratio", settings.max_step_travel_ratio);
   state_.settings = settings;
-  threads_ = settings.threads > 0 ? settings.threads : omp_get_max_threads();
+  team_ = ThreadTeam(settings.threads > 0 ? settings.threads : omp_get_max_threads(), settings.adapt_threads);
+  threads_ = team_.size();
   state_.clock.dt = settings.time_step;
 }
 
@@ -131,6 +132,11 @@ void World::add_callback(std::int64_t every, std::function<void(World&)> callbac
 void World::step(std::int64_t n, StepEnd end) {
   for (std::int64_t s = 0; s < n; ++s) {
     auto t0 = std::chrono::steady_clock::now();
+    const auto step_start = t0;
+    if (team_.size() != threads_) {  // the team changed size: share the loops out again
+      threads_ = team_.size();
+      plan_.forget_shares();
+    }
     if (BroadPhase::needs_rebuild(state_.rebuild)) {
       synchronise();  // spread over processes: each makes the same lists from the whole state
       synchronise_history();
@@ -164,6 +170,7 @@ void World::step(std::int64_t n, StepEnd end) {
     ++state_.clock.steps;
     if (due || (s + 1 == n && end == StepEnd::Whole)) synchronise();
     timing_.communication += seconds_since(t3);
+    team_.step_took(seconds_since(step_start));
     for (auto& [every, callback] : callbacks_)
       if (state_.clock.steps % every == 0) callback(*this);
   }

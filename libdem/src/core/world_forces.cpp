@@ -42,7 +42,7 @@ void World::compute_forces(bool record_pair_forces) {
   ParticleStore& p = state_.particles;
   WorldContacts& contacts = state_.contacts;
   const auto n = static_cast<std::int64_t>(p.size());
-#pragma omp parallel for schedule(static) num_threads(threads_for(n, threads_))
+#pragma omp parallel for schedule(static) num_threads(open_team(threads_for(n, threads_)))
   for (std::int64_t i = 0; i < n; ++i) {
     p.f[static_cast<std::size_t>(i)].setZero();
     p.t[static_cast<std::size_t>(i)].setZero();

@@ -50,7 +50,7 @@ void World::integrate() {
   // the threads' speeds in the pair loop: a particle's update depends on nothing else, so any
   // split gives the same bits.
   const int threads = threads_for(n, threads_);
-#pragma omp parallel num_threads(threads) reduction(max : travel_sq, near_travel_sq) reduction(min : bad)
+#pragma omp parallel num_threads(open_team(threads)) reduction(max : travel_sq, near_travel_sq) reduction(min : bad)
   {
 #if defined(_OPENMP)
     const std::int64_t team = omp_get_num_threads(), me = omp_get_thread_num();
@@ -102,7 +102,7 @@ void World::integrate() {
     refresh_pebble_layout();
     pebble_shares();
   }
-#pragma omp parallel for schedule(static) num_threads(clump_threads) reduction(min : bad_clump)
+#pragma omp parallel for schedule(static) num_threads(open_team(clump_threads)) reduction(min : bad_clump)
   for (std::int64_t ci = 0; ci < clump_count; ++ci) {
     Clump& c = state_.clumps[static_cast<std::size_t>(ci)];
     Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
@@ -210,7 +210,7 @@ void World::pebble_shares() {
   const ParticleStore& p = state_.particles;
   pebble_force_.resize(pebbles_in_storage_.size());
   pebble_torque_.resize(pebbles_in_storage_.size());
-#pragma omp parallel num_threads(threads_for(static_cast<std::int64_t>(pebbles_in_storage_.size()), threads_))
+#pragma omp parallel num_threads(open_team(threads_for(static_cast<std::int64_t>(pebbles_in_storage_.size()), threads_)))
   {
     const auto [first, last] = pebbles_of_this_thread();
     for (const PebbleSlot* s = first; s != last; ++s) {
@@ -260,7 +260,7 @@ void World::update_pebbles() {
       clump_rotation_[ci] = state_.clumps[ci].orientation.toRotationMatrix();
     const Clump* const clumps = state_.clumps.data();
     const Mat3* const rotation = clump_rotation_.data();
-#pragma omp parallel num_threads(threads) reduction(max : travel_sq, near_travel_sq)
+#pragma omp parallel num_threads(open_team(threads)) reduction(max : travel_sq, near_travel_sq)
     {
       const auto [first, last] = pebbles_of_this_thread();
       for (const PebbleSlot* s = first; s != last; ++s) {

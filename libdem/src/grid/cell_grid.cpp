@@ -39,7 +39,7 @@ void CellGrid::build(const std::vector<Vec3>& points, double min_cell_size, doub
   start_.assign(static_cast<std::size_t>(cells) + 1, 0);
   std::vector<std::int64_t> cell_index(points.size());
   const auto n = static_cast<std::int64_t>(points.size());
-#pragma omp parallel for schedule(static) num_threads(threads_for(n, std::max(1, threads)))
+#pragma omp parallel for schedule(static) num_threads(open_team(threads_for(n, std::max(1, threads))))
   for (std::int64_t i = 0; i < n; ++i) {
     const auto c = cell_of(points[static_cast<std::size_t>(i)]);
     cell_index[static_cast<std::size_t>(i)] = linear(c[0], c[1], c[2]);
@@ -80,7 +80,7 @@ void find_pairs_in(const CellGrid& grid, const std::vector<Vec3>& x, const std::
       local_second(static_cast<std::size_t>(nthreads));
   const auto dims = grid.dims();
   const auto axes = grid.axes_slowest_first();
-#pragma omp parallel num_threads(nthreads)
+#pragma omp parallel num_threads(open_team(nthreads))
   {
     const auto me = static_cast<std::size_t>(omp_get_thread_num());
     auto& out_first = local_first[me];

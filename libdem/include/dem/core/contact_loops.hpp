@@ -224,7 +224,7 @@ class ContactModelFor final : public ContactModel {
     target.bytes.assign(source_of.size() * sizeof(State), std::byte{0});  // padding bytes defined
     const bool same_law = source.law == law_tag<Law>() && source.stride == sizeof(State);  // else all fresh
     // One pass, each entry either copied or fresh.
-#pragma omp parallel for schedule(static) num_threads(threads_for(count, threads))
+#pragma omp parallel for schedule(static) num_threads(open_team(threads_for(count, threads)))
     for (std::int64_t k = 0; k < count; ++k) {
       const std::int64_t from = source_of[static_cast<std::size_t>(k)];
       std::byte* entry = target.at(static_cast<std::size_t>(k));

@@ -365,7 +365,7 @@ void compute_pairs(const typename Law::Params& params, PairContacts& c, PairPlan
     plan.share_seconds.assign(shares, 0.0);
     plan.share_done.assign(shares, 0);
   }
-#pragma omp parallel num_threads(threads)
+#pragma omp parallel num_threads(open_team(threads))
   {
     OverlapMonitor local;
 #if defined(_OPENMP)

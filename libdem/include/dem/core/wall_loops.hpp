@@ -251,7 +251,7 @@ void wall_loop(const typename Law::Params& params, WallContacts& c, const Kernel
   // Each contact writes only its own records: the same results for any thread count and split.
   // Then each thread adds its share into the sums when the shares before it are in (`turn`).
   std::atomic<std::int64_t> turn{0};
-#pragma omp parallel num_threads(threads)
+#pragma omp parallel num_threads(open_team(threads))
   {
     OverlapMonitor local;
 #if defined(_OPENMP)

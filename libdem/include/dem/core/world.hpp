@@ -35,6 +35,7 @@
 #include <dem/core/contact_model.hpp>
 #include <dem/core/damping_frame.hpp>
 #include <dem/core/step_plan.hpp>
+#include <dem/core/thread_team.hpp>
 #include <dem/core/world_state.hpp>
 
 namespace dem::parallel {
@@ -127,7 +128,11 @@ class World {
   double critical_time_step() const;
   /// Re-estimates the automatic time step now (after generation or a stiffness change).
   void update_time_step();
-  int threads() const { return threads_; }
+  /// The configured thread team (WorldSettings::threads, auto resolved); a step may run on fewer
+  /// while the machine is busy (thread_team()).
+  int threads() const { return team_.most(); }
+  /// How many threads the steps run on, and how often each size was used.
+  const ThreadTeam& thread_team() const { return team_; }
   /// Where the steps' time went so far (StepTiming).
   const StepTiming& step_timing() const { return timing_; }
   void reset_step_timing() { timing_ = {}; }
@@ -285,7 +290,8 @@ class World {
   ContactModelTable models_{};
   BroadPhase broad_phase_;
   DampingFrame damping_frame_;
-  int threads_ = 1;
+  ThreadTeam team_;
+  int threads_ = 1;  // this step's team: team_.size()
   std::vector<std::function<void(World&)>> controllers_;
   std::vector<std::pair<std::int64_t, std::function<void(World&)>>> callbacks_;
   StepTiming timing_;

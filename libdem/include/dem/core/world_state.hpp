@@ -26,7 +26,10 @@ struct WorldSettings {
                                      //    refreshing the list as particles move; 0: a fifth of the
                                      //    skin. Speed only: results do not depend on it
   int sort_every = 20;               // re-sort particles in cell order every this many rebuilds (0: never)
-  int threads = 0;                   // 0: OpenMP default (OMP_NUM_THREADS)
+  int threads = 0;                   // the team; 0: auto, the cores this process may run on
+                                     //    (OMP_NUM_THREADS where set, else its affinity mask)
+  bool adapt_threads = true;         // a step runs on fewer threads while that is faster (a busy
+                                     //    machine: core/thread_team.hpp). Speed only
   double max_overlap_ratio = 1.0;    // -, overlap / smaller radius that stops the run as unstable
                                      //    (soft calibrated sands reach 0.5 in strong force chains)
   double max_step_travel_ratio = 0.25;  // -, distance moved in one step / radius that stops the run

@@ -60,6 +60,33 @@ void SimpleShearConfig::validate() const {
   (void)shear.legs();
 }
 
+namespace {
+
+// engine.threads: "auto" (0) or a count from 1 to 256; "0", as earlier files wrote auto, reads as auto.
+TextChoice<EngineConfig> thread_count_choice() {
+  return {{},
+          [](const EngineConfig& e) { return e.threads == 0 ? std::string("auto") : std::to_string(e.threads); },
+          [](EngineConfig& e, const std::string& text, const std::string& key) {
+            e.threads = thread_count(text, key);
+          }};
+}
+
+}  // namespace
+
+int thread_count(const std::string& text, const std::string& key) {
+  if (text == "auto" || text == "0") return 0;
+  std::size_t used = 0;
+  int n = -1;
+  try {
+    n = std::stoi(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || n < 1 || n > 256)
+    throw InputError(key + " = '" + text + "': expected auto or a whole number of threads from 1 to 256");
+  return n;
+}
+
 const BindingTable<EngineConfig>& engine_keys() {
   using S = EngineConfig;
   static const BindingTable<S> table = {
@@ -67,7 +94,8 @@ const BindingTable<EngineConfig>& engine_keys() {
       {"time_step", &S::time_step, "s", "time step, 0: automatic from stiffness and mass", 0.0, {}, false, fixed_after(P::Generating, "every step so far used it", true)},
       {"time_step_safety", &S::time_step_safety, "-", "automatic time step = safety x critical estimate", 0.0, 1.0, true, fixed_after(P::Generating, "the time step so far was set with it", true)},
       {"max_overlap_ratio", &S::max_overlap_ratio, "-", "overlap / smaller radius that stops the run as unstable (also applied to a resumed restart file)", 0.0, 2.0, true, io::FixedAfter::never()},
-      {"threads", &S::threads, "-", "OpenMP threads, 0: OMP_NUM_THREADS", 0.0, 256.0, false, io::FixedAfter::never()},
+      {"threads", thread_count_choice(), "-", "threads of the team: auto (the cores this process may run on: OMP_NUM_THREADS where set, else its affinity mask) or 1 to 256; results do not depend on it", {}, {}, false, io::FixedAfter::never()},
+      {"adapt_threads", &S::adapt_threads, "-", "a step runs on fewer threads while that is faster (a busy machine); false: always the whole team", {}, {}, false, io::FixedAfter::never()},
   };
   return table;
 }

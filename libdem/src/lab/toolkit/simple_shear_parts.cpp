@@ -12,6 +12,7 @@ WorldSettings world_settings(const EngineConfig& engine) {
   s.time_step_safety = engine.time_step_safety;
   s.max_overlap_ratio = engine.max_overlap_ratio;
   s.threads = engine.threads;
+  s.adapt_threads = engine.adapt_threads;
   return s;
 }
 

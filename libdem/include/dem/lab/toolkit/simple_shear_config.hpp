@@ -56,7 +56,8 @@ struct EngineConfig {
   double time_step = 0.0;          // s, 0: automatic
   double time_step_safety = 0.8;   // -
   double max_overlap_ratio = 1.0;  // -, overlap / smaller radius that stops the run
-  int threads = 0;                 // 0: OMP_NUM_THREADS
+  int threads = 0;                 // 0: auto (OMP_NUM_THREADS where set, else the affinity mask)
+  bool adapt_threads = true;       // fewer threads while that is faster (core/thread_team.hpp)
 
   bool operator==(const EngineConfig&) const = default;
 };
@@ -165,6 +166,9 @@ struct SimpleShearConfig {
 
 /// The [engine] keys, for a protocol with a configuration of its own (each key declared once).
 const io::BindingTable<EngineConfig>& engine_keys();
+/// The value of an engine.threads text: 0 for "auto" (or "0"), else 1 to 256; InputError naming
+/// `key` otherwise.
+int thread_count(const std::string& text, const std::string& key);
 /// The [output] keys every resumable run reads (lab/toolkit/run.hpp): restart_every_steps and
 /// progress_seconds.
 const io::BindingTable<OutputConfig>& run_output_keys();
