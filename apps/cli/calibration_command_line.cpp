@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <ostream>
 
+#include <dem/base/input_file.hpp>
 #include <dem/core/errors.hpp>
 
 #include "common_options.hpp"
@@ -68,6 +69,7 @@ std::optional<CalibrationCommandLine> parse_calibration_command_line(int argc, c
   require(vm.count("lab") > 0, "--lab", "(missing)", "the laboratory curve CSV (see --help)");
   lab::LabCurveOptions lab_options;
   lab_options.strain_percent = vm.count("strain-percent") > 0;
+  require_input_file(vm["lab"].as<std::string>(), "--lab", "a CSV file of the laboratory curve", max_text_input_bytes);
   lab::LabCurve lab = lab::read_lab_curve(vm["lab"].as<std::string>(), lab_options);
   const std::filesystem::path from = restart_file(vm);
   return CalibrationCommandLine{std::move(config), settings, std::move(lab), vm["out"].as<std::string>(), from};

@@ -1,5 +1,6 @@
 #include "common_options.hpp"
 
+#include <dem/base/input_file.hpp>
 #include <dem/core/errors.hpp>
 #include <dem/lab/toolkit/simple_shear_config.hpp>
 
@@ -46,9 +47,11 @@ io::Config resolve_config(io::Schema schema, const po::variables_map& vm) {
 std::filesystem::path restart_file(const po::variables_map& vm) {
   if (!vm.count("from")) return {};
   std::filesystem::path from = vm["from"].as<std::string>();
-  require(std::filesystem::exists(from), "--from", from.string(), "an existing restart file");
-  require(!std::filesystem::is_directory(from), "--from", from.string() + " (a folder)",
-          "a restart file, e.g. " + (from / "consolidated.restart").string() + " or " + (from / "restart.restart").string());
+  const std::string allowed = std::filesystem::is_directory(from)
+                                  ? "a restart file, e.g. " + (from / "consolidated.restart").string() + " or " +
+                                        (from / "restart.restart").string()
+                                  : "a restart file";
+  require_input_file(from, "--from", allowed, max_restart_file_bytes);
   return from;
 }
 

@@ -11,9 +11,10 @@ Usage: kill_resume.py DEM_SIMPLE_SHEAR WORK_DIR [SEED]   (tests/ctest/kill_resum
    temporary file planted as a killed writer would leave it is removed by the resumed run.
 2. A truncated and a corrupted (one flipped byte) restart file are refused by --from with exit
    code 2 and a message naming the file and the problem.
-3. Output folders: refused runs (wrong stage, another run in --out, --from a folder, another
-   diameter) exit 2 and leave --out as it was; --replace removes the old run as a whole; a second
-   run into a folder in use stops at once while the first finishes.
+3. Output folders: refused runs (wrong stage, another run in --out, --from a folder, a FIFO or a
+   device, a refused --replace, another diameter) exit 2 and leave --out as it was; --replace
+   removes the old run as a whole and nothing else (a user's file named like a temporary stays); a
+   second run into a folder in use stops at once while the first finishes.
 4. Atomic outputs: runs that rewrite history.csv every few steps are killed at random moments;
    history.csv must always be a complete table (header, whole rows, final newline). Temporary
    files may be left behind by SIGKILL; they are not checked.
@@ -344,8 +345,25 @@ def output_folders(program, work, a):
     refused(["--out", other, "--from", os.path.join(a, "consolidated.restart"), "--set", "specimen.diameter=0.042"],
             "specimen.diameter = 0.042 here, 0.03 in the file", "--from with another diameter")
     unchanged("another diameter")
+    cyclic = os.path.join(os.path.dirname(program), "dem-cyclic-shear")
+    refused(["--out", other, "--from", os.path.join(a, "final.restart"), "--replace"], "stage = 4",
+            "dem-cyclic-shear --replace --from a sheared restart", app=cyclic)
+    unchanged("a refused --replace")
+    fifo = os.path.join(out, "pipe.restart")
+    os.mkfifo(fifo)
+    refused(["--out", other, "--from", fifo], "is a FIFO", "--from a FIFO")
+    refused(["--out", other, "--from", "/dev/zero"], "is a character device", "--from /dev/zero")
+    unchanged("--from a FIFO or a device")
+    # A user's file named like a killed run's temporary is not one: --replace leaves it.
+    ended = subprocess.Popen(["true"])
+    ended.wait()
+    user_file = os.path.join(other, f"notes.txt.tmp.{ended.pid}")
+    with open(user_file, "w") as f:
+        f.write("the user's own")
     code = run(program, SPECIMEN + ["--out", other, "--from", os.path.join(a, "consolidated.restart"), "--replace"],
                os.path.join(out, "replace.log"))
+    if not os.path.exists(user_file):
+        fail("--replace removed a user's file named like a temporary file")
     if code != 0 or os.path.exists(os.path.join(other, "consolidated.restart")):
         fail(f"--replace: exit {code}; the old run's consolidated.restart must be gone: {sorted(os.listdir(other))}")
     if read(os.path.join(other, "history.csv")) != read(os.path.join(a, "history.csv")):

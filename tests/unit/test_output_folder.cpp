@@ -105,6 +105,25 @@ TEST_CASE("output folder: temporary files of ended processes are removed, those 
   CHECK(fs::exists(dir / "history.csv.tmp.notapid"));
 }
 
+TEST_CASE("output folder: a user's file named like a temporary survives, and a refused claim sweeps nothing", "[io][output-folder]") {
+  const fs::path dir = fresh_dir("user_tmp");
+  fs::create_directories(dir / "my_data");
+  const std::string dead = std::to_string(ended_pid());
+  write(dir / ("notes.txt.tmp." + dead), "the user's own");
+  write(dir / "my_data" / ("table.csv.tmp." + dead), "the user's own");
+  write(dir / ("history.csv.tmp." + dead), "a killed run's");
+  write(dir / "history.csv", "time\n");  // another run's results: refused without replace
+  CHECK_THROWS_WITH(io::OutputFolder(dir, policy()), Contains("holds the results of another run"));
+  CHECK(fs::exists(dir / ("history.csv.tmp." + dead)));  // refused: nothing touched
+  io::OutputFolderPolicy replacing = policy();
+  replacing.replace = true;
+  io::OutputFolder folder(dir, replacing);
+  CHECK(folder.leftovers_removed() == 1);
+  CHECK_FALSE(fs::exists(dir / ("history.csv.tmp." + dead)));
+  CHECK(read(dir / ("notes.txt.tmp." + dead)) == "the user's own");
+  CHECK(read(dir / "my_data" / ("table.csv.tmp." + dead)) == "the user's own");
+}
+
 TEST_CASE("output folder: a file, or a folder that cannot be created, is refused before any work", "[io][output-folder]") {
   const fs::path dir = fresh_dir("unusable");
   fs::create_directories(dir);

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "dem/base/errors.hpp"
+#include "dem/base/input_file.hpp"
 #include "dem/geometry/triangle.hpp"
 
 namespace dem::geometry {
@@ -222,10 +223,7 @@ void write_point(std::ostream& out, const Vec3& p) {
 TriangleMesh read_stl_ascii(const std::filesystem::path& file, double scale) {
   require(std::isfinite(scale) && scale > 0.0, "STL scale", scale,
           "finite and > 0 (m per file unit, e.g. 1e-3 for millimetres)");
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(file, error)) {
-    throw InputError("STL file = \"" + file.string() + "\": must be an existing file");
-  }
+  require_input_file(file, "STL file", "an ASCII STL file", max_text_input_bytes);
   std::ifstream in(file);
   if (!in) throw InputError("STL file = \"" + file.string() + "\": must be readable");
   return StlParser(in, file.string(), scale).parse();

@@ -6,6 +6,7 @@
 #include <iterator>
 #include <sstream>
 
+#include <dem/base/input_file.hpp>
 #include <dem/core/errors.hpp>
 #include <dem/io/atomic_file.hpp>
 #include <dem/io/world_state.hpp>
@@ -65,6 +66,7 @@ Checkpoint read_framed(const std::filesystem::path& path) {
   if (std::filesystem::is_directory(path, error))
     throw InputError("restart file " + path.string() + " is a folder: give the restart file in it, e.g. " +
                      (path / "consolidated.restart").string() + " or " + (path / "restart.restart").string());
+  require_input_file(path, "restart file", "a libdem restart file", max_restart_file_bytes);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError("restart file " + path.string() + ": cannot be opened");
   const std::string file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

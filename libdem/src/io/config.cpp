@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <string_view>
@@ -22,6 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "config_json.hpp"
+#include "dem/base/input_file.hpp"
 #include "dem/core/errors.hpp"
 
 namespace dem::io {
@@ -328,7 +330,8 @@ void Config::load_file(const std::filesystem::path& path) {
     throw InputError(where + "extension '" + path.extension().string() +
                      "' not supported: must be .ini or .json");
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(where + "does not exist");
+  // Its size is checked below, as it is read.
+  require_input_file(path, "config file", "an .ini or .json configuration file", std::numeric_limits<std::uintmax_t>::max());
   const auto refuse_size = [&](const std::string& size) {
     throw InputError(where + "size " + size + " bytes: must be at most " +
                      std::to_string(max_config_file_bytes) + " bytes (a configuration is a few KB)");

@@ -11,6 +11,7 @@
 #include <string_view>
 #include <system_error>
 
+#include "dem/base/input_file.hpp"
 #include "dem/core/errors.hpp"
 #include "dem/io/atomic_file.hpp"
 
@@ -133,6 +134,7 @@ std::size_t CsvTable::column_index(const std::string& name) const {
 std::size_t CsvData::column(const std::string& name) const { return find_column(columns, name); }
 
 CsvData read_csv(const std::filesystem::path& path, Missing missing) {
+  require_input_file(path, "CSV file", "a CSV file", max_text_input_bytes);
   std::ifstream in(path);
   if (!in) {
     std::error_code ec;

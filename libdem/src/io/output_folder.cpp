@@ -1,5 +1,6 @@
 #include <dem/io/output_folder.hpp>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <csignal>
@@ -36,10 +37,16 @@ std::string now_utc() {
 }
 
 // "<name>.tmp.<pid>" of a process that no longer runs: what write_atomically leaves when killed.
-bool is_leftover_temporary(const fs::path& file) {
+// Only the temporaries of files a run writes are ones: <name> one of the run's files, or a restart
+// file; a user's own "notes.tmp.12" is not.
+bool is_leftover_temporary(const fs::path& file, const std::vector<std::string>& run_files, bool in_run_folder) {
   const std::string name = file.filename().string();
   const auto at = name.rfind(".tmp.");
   if (at == std::string::npos || at + 5 >= name.size()) return false;
+  const std::string target = name.substr(0, at);
+  const bool written_by_a_run = in_run_folder || target.ends_with(".restart") ||
+                                std::find(run_files.begin(), run_files.end(), target) != run_files.end();
+  if (!written_by_a_run) return false;
   const std::string digits = name.substr(at + 5);
   if (digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) return false;
   const auto pid = static_cast<pid_t>(std::stol(digits));
@@ -47,20 +54,22 @@ bool is_leftover_temporary(const fs::path& file) {
   return ::kill(pid, 0) != 0 && errno == ESRCH;
 }
 
-std::size_t remove_leftovers(const fs::path& folder) {
+// The leftovers in the folder, and in the run's own folders in it (snapshots/, ...).
+std::size_t remove_leftovers(const fs::path& folder, const std::vector<std::string>& run_files) {
   std::size_t removed = 0;
-  auto sweep = [&](const fs::path& dir) {
+  auto sweep = [&](const fs::path& dir, bool in_run_folder) {
     std::error_code error;
     for (const auto& entry : fs::directory_iterator(dir, error)) {
       std::error_code ignored;
-      if (entry.is_regular_file(ignored) && is_leftover_temporary(entry.path()) && fs::remove(entry.path(), ignored)) ++removed;
+      if (entry.is_regular_file(ignored) && is_leftover_temporary(entry.path(), run_files, in_run_folder) &&
+          fs::remove(entry.path(), ignored))
+        ++removed;
     }
   };
-  sweep(folder);
-  std::error_code error;
-  for (const auto& entry : fs::directory_iterator(folder, error)) {
+  sweep(folder, false);
+  for (const std::string& name : run_files) {
     std::error_code ignored;
-    if (entry.is_directory(ignored)) sweep(entry.path());
+    if (fs::is_directory(folder / name, ignored)) sweep(folder / name, true);
   }
   return removed;
 }
@@ -118,10 +127,16 @@ OutputFolder::OutputFolder(fs::path folder, const OutputFolderPolicy& policy) : 
   ::close(probe_fd);
   fs::remove(probe, error);
 
-  leftovers_removed_ = remove_leftovers(folder_);
-  if (policy.continues_own_run) return;
+  // Leftovers are swept only once the folder is accepted: a refused run changes nothing in it.
+  if (policy.continues_own_run) {
+    leftovers_removed_ = remove_leftovers(folder_, policy.run_files);
+    return;
+  }
   const std::vector<std::string> found = existing_run_files(folder_, policy.run_files);
-  if (found.empty()) return;
+  if (found.empty()) {
+    leftovers_removed_ = remove_leftovers(folder_, policy.run_files);
+    return;
+  }
   if (!policy.replace) {
     ::close(lock_fd_);
     lock_fd_ = -1;
@@ -133,6 +148,7 @@ OutputFolder::OutputFolder(fs::path folder, const OutputFolderPolicy& policy) : 
     if (error) throw InputError(where + ": cannot remove " + name + " of the run it held: " + error.message());
     replaced_.push_back(name);
   }
+  leftovers_removed_ = remove_leftovers(folder_, policy.run_files);
 }
 
 OutputFolder::~OutputFolder() {

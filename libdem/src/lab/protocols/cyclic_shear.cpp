@@ -76,6 +76,8 @@ CyclicShearTest::~CyclicShearTest() = default;
 
 void CyclicShearTest::load_restart(const std::filesystem::path& file) {
   specimen_.load(file);
+  // Checked here, before the output folder is claimed, so that a refused run leaves it as it was.
+  if (step_ == Step::Start) require_cyclic_stage();
   run_.log() << "resumed from " << file.string() << " at step " << run_.world().step_count() << " ("
              << (step_ == Step::Start ? to_string(specimen_.progress()) : "cyclic stage " + std::to_string(static_cast<int>(current_phase_))) << ")\n";
 }
@@ -104,9 +106,15 @@ void CyclicShearTest::make_drive() {
 
 // The stages' settings from the consolidated specimen: the shear rate, the period in whole steps
 // per row, sigma_v0; the servo holds the height (constant volume) or the vertical stress.
-void CyclicShearTest::begin() {
-  require(specimen_.stage() == ShearStage::Consolidated, "cyclic shear: the specimen's stage", static_cast<int>(specimen_.stage()),
+void CyclicShearTest::require_cyclic_stage() const {
+  const ShearStage stage = specimen_.stage();
+  const bool makes_its_own = own_run_ && (stage == ShearStage::Empty || stage == ShearStage::Generated);
+  require(stage == ShearStage::Consolidated || makes_its_own, "cyclic shear: the specimen's stage", static_cast<int>(stage),
           "2 (consolidated: consolidate it or load a consolidated restart)");
+}
+
+void CyclicShearTest::begin() {
+  require_cyclic_stage();
   ServoWall* servo = specimen_.servo();
   require(servo != nullptr, "cyclic shear: the top plate's servo", "missing", "a consolidated specimen");
   const World& w = run_.world();

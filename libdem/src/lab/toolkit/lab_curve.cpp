@@ -8,6 +8,7 @@
 #include <limits>
 #include <sstream>
 
+#include <dem/base/input_file.hpp>
 #include <dem/core/errors.hpp>
 
 namespace dem::lab {
@@ -63,6 +64,7 @@ std::string number(double v) {
 }  // namespace
 
 LabCurve read_lab_curve(const std::filesystem::path& file, const LabCurveOptions& options) {
+  require_input_file(file, "lab curve", "a CSV file of the laboratory curve", max_text_input_bytes);
   const io::CsvData data = io::read_csv(file);  // file, header, cells (NaN, text) with line numbers
   const std::string where = "lab curve " + file.string();
   if (data.rows.empty()) throw InputError(where + ": has a header but no data rows: must hold at least one strain point");

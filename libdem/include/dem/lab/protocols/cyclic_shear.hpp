@@ -111,6 +111,8 @@ class CyclicShearTest {
   enum class Step : int { Start = 0, StaticRows = 1, CyclicStart = 2, CyclicRows = 3, PostRows = 4, Done = 5 };
   void keep_state();
   void begin();
+  // The specimen must be consolidated (or, for a run that makes its own, not yet): InputError otherwise.
+  void require_cyclic_stage() const;
   void make_drive();
   void start_phase(CyclicPhase phase, std::int64_t start_step);
   void add_history_columns();
