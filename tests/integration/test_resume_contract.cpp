@@ -334,3 +334,33 @@ TEST_CASE("triaxial: the protocol's keys, a drained test that holds the confinin
   CHECK_THROWS_WITH(test.load_restart(whole / "consolidated.restart"),
                     Contains("isotropic.confining_stress = 2e+05 here, 1e+05 in the file") && !Contains("dem-consolidate"));
 }
+
+TEST_CASE("resume: a restart file whose cursor holds an absurd value is refused naming the key", "[resume][simple-shear]") {
+  const fs::path file = consolidated_specimen() / "consolidated.restart";
+  std::ostringstream log;
+  SimpleShearTest reader(simple_shear_config(small_config()), fresh_dir("absurd_reader"), log);
+  const auto state = nlohmann::ordered_json::parse(io::load_checkpoint(file, reader.world()));
+  // Each with a valid checksum: what a program (or a hand) could write into a file.
+  struct Case {
+    const char* key;
+    double value;
+    const char* expect;
+  };
+  const Case cases[] = {{"stage", 7, "restart file: stage = 7"},
+                        {"leg", 99, "restart file: leg = 99"},
+                        {"path_strain", 1e308, "restart file: path_strain = 1e+308"},
+                        {"ball_count", -5, "restart file: ball_count = -5"},
+                        {"consolidation_start_step", 0.5, "restart file: consolidation_start_step = 0.5"}};
+  for (const Case& c : cases) {
+    nlohmann::ordered_json changed = state;
+    REQUIRE(changed.contains(c.key));
+    changed[c.key] = c.value;
+    const fs::path dir = fresh_dir(std::string("absurd_") + c.key);
+    fs::create_directories(dir);
+    io::save_checkpoint(dir / "consolidated.restart", reader.world(), changed.dump());
+    fs::copy_file(consolidated_specimen() / "history.csv", dir / "history.csv");
+    SimpleShearTest test(simple_shear_config(small_config()), fresh_dir(std::string("absurd_out_") + c.key), log);
+    test.record_configuration(small_config());
+    CHECK_THROWS_WITH(test.load_restart(dir / "consolidated.restart"), Contains(c.expect));
+  }
+}

@@ -78,18 +78,35 @@ void Run::keep(const std::string& key, double& value) {
   restore(kept_.back());
 }
 
+namespace {
+
+// A count or index read from a restart file: a whole number within `lowest` and 2^53 (a file whose
+// checksum holds can still carry any value a program wrote; a cast of 1e308 is undefined).
+double whole_number(const std::string& key, double v, double lowest) {
+  require(std::isfinite(v) && v == std::floor(v) && v >= lowest && v <= 9007199254740992.0, "restart file: " + key, v,
+          "a whole number from " + std::to_string(static_cast<long long>(lowest)) + " to 2^53");
+  return v;
+}
+
+}  // namespace
+
 void Run::keep(const std::string& key, std::int64_t& value) {
-  kept_.push_back({key, [&value] { return static_cast<double>(value); }, [&value](double v) { value = static_cast<std::int64_t>(v); }, true});
+  kept_.push_back({key, [&value] { return static_cast<double>(value); },
+                   [&value, key](double v) { value = static_cast<std::int64_t>(whole_number(key, v, -1.0)); }, true});
   restore(kept_.back());
 }
 
 void Run::keep(const std::string& key, int& value) {
-  kept_.push_back({key, [&value] { return static_cast<double>(value); }, [&value](double v) { value = static_cast<int>(v); }, true});
+  kept_.push_back({key, [&value] { return static_cast<double>(value); }, [&value, key](double v) {
+                     require(v <= 2147483647.0, "restart file: " + key, v, "at most 2147483647");
+                     value = static_cast<int>(whole_number(key, v, -1.0));
+                   }, true});
   restore(kept_.back());
 }
 
 void Run::keep(const std::string& key, std::size_t& value) {
-  kept_.push_back({key, [&value] { return static_cast<double>(value); }, [&value](double v) { value = static_cast<std::size_t>(v); }, true});
+  kept_.push_back({key, [&value] { return static_cast<double>(value); },
+                   [&value, key](double v) { value = static_cast<std::size_t>(whole_number(key, v, 0.0)); }, true});
   restore(kept_.back());
 }
 
