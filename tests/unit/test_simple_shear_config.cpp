@@ -175,3 +175,17 @@ TEST_CASE("engine keys: threads is auto or a count from 1 to 256, and a bad one 
     CHECK_THROWS_WITH(simple_shear_config(c), Contains("engine.threads") && Contains("auto or a whole number"));
   }
 }
+
+TEST_CASE("simple-shear keys: absurd physical values are refused at the door with the key and its range", "[lab][config]") {
+  // The audit's cases: each started work or failed later without naming the key.
+  const std::pair<const char*, const char*> cases[] = {{"rings.pebble_diameter", "1.5"},
+                                                       {"shear.strain_rate", "1e308"},
+                                                       {"specimen.density", "1e-300"},
+                                                       {"consolidation.vertical_stress", "1e12"},
+                                                       {"engine.time_step", "10"},
+                                                       {"specimen.diameter", "50"}};
+  for (const auto& [key, value] : cases) {
+    io::Config c(simple_shear_schema());
+    CHECK_THROWS_WITH(c.set(key, value), Contains(key) && Contains(value) && Contains("must be"));
+  }
+}

@@ -26,7 +26,7 @@ const io::BindingTable<C>& bindings() {
       {"strain_amplitude", &C::strain_amplitude, "-", "shear strain amplitude (control = strain)", 0.0, 0.5, true},
       {"minor_ratio", &C::minor_ratio, "-", "ellipse minor / major axis; figure-8 transverse amplitude / amplitude", 0.0, 10.0},
       {"series_file", &C::series_file, "-", "CSV of the series path: columns cycle (or time, s), x, y in CSR (stress) or strain"},
-      {"period", &C::period, "s", "duration of one cycle; 0: 4 x 0.01 / the shear rate of shear.inertial_number (a quarter cycle at the monotonic rate per 1 % strain)", 0.0},
+      {"period", &C::period, "s", "duration of one cycle; 0: 4 x 0.01 / the shear rate of shear.inertial_number (a quarter cycle at the monotonic rate per 1 % strain)", 0.0, 1e4},
       {"static_csr", &C::static_csr, "-", "static shear stress / sigma'_v0 applied (over a quarter period, then held) before the cycles; 0: none", 0.0, 2.0},
       {"static_direction_deg", &C::static_direction_deg, "deg", "direction of the static shear stress", -360.0, 360.0},
       {"max_cycles", &C::max_cycles, "-", "cycles that end the test", 1.0, 100000.0, false, io::FixedAfter::never()},
@@ -36,7 +36,7 @@ const io::BindingTable<C>& bindings() {
       {"post_strain", &C::post_strain, "-", "monotonic shear strain after the cycles, strain-controlled at the shear rate; 0: none", 0.0, 2.0},
       {"post_direction_deg", &C::post_direction_deg, "deg", "direction of the post-cyclic shear", -360.0, 360.0},
       {"servo_relaxation", &C::servo_relaxation, "-", "stress control: fraction of the shear stress error the top plate removes per step (gain alpha A / (sum k_s dt))", 0.0, 1.0, true},
-      {"servo_max_speed", &C::servo_max_speed, "m/s", "stress control: speed cap of the top plate; 0: 10 x the shear rate x H_c", 0.0},
+      {"servo_max_speed", &C::servo_max_speed, "m/s", "stress control: speed cap of the top plate; 0: 10 x the shear rate x H_c", 0.0, 100.0},
       {"snapshot_cycles", &C::snapshot_cycles, "-", "cycles N at which snapshots are written (cyclic_snapshots/)", 0.0, {}, false, io::FixedAfter::never()},
       {"fabric_cycles", &C::fabric_cycles, "-", "cycles N at which the fabric is recorded (cyclic_fabric.csv)", 0.0, {}, false, io::FixedAfter::never()},
   };

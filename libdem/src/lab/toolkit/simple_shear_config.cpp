@@ -91,7 +91,7 @@ const BindingTable<EngineConfig>& engine_keys() {
   using S = EngineConfig;
   static const BindingTable<S> table = {
       {"local_damping", &S::local_damping, "-", "local non-viscous damping alpha", 0.0, 0.99, false, fixed_after(P::Generating, "every step so far was damped with it")},
-      {"time_step", &S::time_step, "s", "time step, 0: automatic from stiffness and mass", 0.0, {}, false, fixed_after(P::Generating, "every step so far used it", true)},
+      {"time_step", &S::time_step, "s", "time step, 0: automatic from stiffness and mass", 0.0, 1.0, false, fixed_after(P::Generating, "every step so far used it", true)},
       {"time_step_safety", &S::time_step_safety, "-", "automatic time step = safety x critical estimate", 0.0, 1.0, true, fixed_after(P::Generating, "the time step so far was set with it", true)},
       {"max_overlap_ratio", &S::max_overlap_ratio, "-", "overlap / smaller radius that stops the run as unstable (also applied to a resumed restart file)", 0.0, 2.0, true, io::FixedAfter::never()},
       {"threads", thread_count_choice(), "-", "threads of the team: auto (the cores this process may run on: OMP_NUM_THREADS where set, else its affinity mask) or 1 to 256; results do not depend on it", {}, {}, false, io::FixedAfter::never()},
@@ -116,10 +116,10 @@ namespace {
 const BindingTable<SpecimenConfig>& specimen_keys() {
   using S = SpecimenConfig;
   static const BindingTable<S> table = {
-      {"diameter", &S::diameter, "m", "specimen diameter", 0.0, {}, true},
-      {"height", &S::height, "m", "specimen height before consolidation", 0.0, {}, true},
+      {"diameter", &S::diameter, "m", "specimen diameter", 0.0, 10.0, true},
+      {"height", &S::height, "m", "specimen height before consolidation", 0.0, 10.0, true},
       {"porosity", &S::porosity, "-", "target porosity of the generation; sets the ball count (the study's 0.37 is denser than spheres with friction pack at a low stress: docs/size-effect.md)", 0.2, 0.8},
-      {"density", &S::density, "kg/m^3", "particle density", 0.0, {}, true},
+      {"density", &S::density, "kg/m^3", "particle density", 1.0, 1e5},
       {"seed", &S::seed, "-", "random seed of the generation", 0.0},
   };
   return table;
@@ -130,11 +130,11 @@ const BindingTable<Grading>& grading_keys() {
   static const BindingTable<S> table = {
       {"sampling", io::enum_choice({"number-uniform", "mass"}, &S::sampling), "-",
        "number-uniform: diameters uniform by number on [d_min, d_max]; mass: the sieve curve by mass"},
-      {"d_min", &S::d_min, "m", "smallest diameter before scaling (number-uniform; 0.0007 reproduces the study's ball counts)", 0.0, {}, true},
-      {"d_max", &S::d_max, "m", "largest diameter before scaling", 0.0, {}, true},
-      {"sieve_diameters", &S::sieve_diameters, "m", "sieve sizes of the mass grading (Leighton Buzzard fraction B)", 0.0, {}, true},
+      {"d_min", &S::d_min, "m", "smallest diameter before scaling (number-uniform; 0.0007 reproduces the study's ball counts)", 0.0, 1.0, true},
+      {"d_max", &S::d_max, "m", "largest diameter before scaling", 0.0, 1.0, true},
+      {"sieve_diameters", &S::sieve_diameters, "m", "sieve sizes of the mass grading (Leighton Buzzard fraction B)", 0.0, 1.0, true},
       {"passing_fraction", &S::passing_fraction, "-", "mass fraction passing each sieve", 0.0, 1.0},
-      {"scale", &S::scale, "-", "particle size multiplier (1D, 2D, 4D = 1, 2, 4)", 0.0, {}, true},
+      {"scale", &S::scale, "-", "particle size multiplier (1D, 2D, 4D = 1, 2, 4)", 0.0, 1000.0, true},
   };
   return table;
 }
@@ -142,12 +142,12 @@ const BindingTable<Grading>& grading_keys() {
 const BindingTable<RingsConfig>& rings_keys() {
   using S = RingsConfig;
   static const BindingTable<S> table = {
-      {"pebble_diameter", &S::pebble_diameter, "m", "ring pebble diameter, 0: the smallest ball diameter", 0.0, {}, false, ring_built},
-      {"gap", &S::gap, "m", "vertical gap between rings, 0: a tenth of the pebble radius", 0.0, {}, false, ring_built},
-      {"density", &S::density, "kg/m^3", "density of the solid ring the pebbles stand for", 0.0, {}, true, ring_built},
+      {"pebble_diameter", &S::pebble_diameter, "m", "ring pebble diameter, 0: the smallest ball diameter", 0.0, 1.0, false, ring_built},
+      {"gap", &S::gap, "m", "vertical gap between rings, 0: a tenth of the pebble radius", 0.0, 0.1, false, ring_built},
+      {"density", &S::density, "kg/m^3", "density of the solid ring the pebbles stand for", 1.0, 1e5, false, ring_built},
       {"vertical", io::enum_choice({"fixed", "follow", "prescribed", "free", "sand"}, &S::vertical), "-",
        "rings once the specimen is made: fixed (held at their heights), follow (each moves vertically with the specimen, its height interpolated between the plates), prescribed (follow, and the horizontal displacement prescribed linear in height: a diagnostic), free (free vertically too: each ring is carried by the sand beside it), sand (each ring moves vertically with the mean vertical velocity of the balls touching it)", {}, {}, false, fixed_after(P::Shearing, "the shear so far moved the rings this way")},
-      {"stack_height", &S::stack_height, "m", "height the ring stack covers; 0: the specimen height (1.1 x with rings.vertical = fixed, room for dilation)", 0.0, {}, false, ring_built},
+      {"stack_height", &S::stack_height, "m", "height the ring stack covers; 0: the specimen height (1.1 x with rings.vertical = fixed, room for dilation)", 0.0, 10.0, false, ring_built},
   };
   return table;
 }
@@ -191,8 +191,8 @@ const BindingTable<GenerationConfig>& generation_keys() {
        "ball-ball rolling friction while the radii grow: frictionless, ball-ball (ball_ball.rolling_friction) or a number >= 0"},
       {"plate", io::enum_choice({"fixed", "servo"}, &S::plate), "-",
        "top plate while the radii grow: fixed (a closed cavity of specimen.height) or servo (held at generation.stress, never below specimen.height; then the friction schedule brings the porosity to specimen.porosity)"},
-      {"stress", &S::stress, "Pa", "servo stress of the top plate while the radii grow (generation.plate = servo)", 0.0, {}, true},
-      {"servo_max_speed", &S::servo_max_speed, "m/s", "speed cap of the servo plate while the radii grow: it must rise as fast as the specimen grows (about 3 H x the radius growth rate)", 0.0, {}, true},
+      {"stress", &S::stress, "Pa", "servo stress of the top plate while the radii grow (generation.plate = servo)", 0.0, 1e9, true},
+      {"servo_max_speed", &S::servo_max_speed, "m/s", "speed cap of the servo plate while the radii grow: it must rise as fast as the specimen grows (about 3 H x the radius growth rate)", 0.0, 100.0, true},
       {"porosity_tolerance", &S::porosity_tolerance, "-", "the friction schedule stops once the porosity is this close to specimen.porosity", 0.0, 0.1, true},
       {"friction_reduction", &S::friction_reduction, "-", "factor on the generation friction and rolling friction at each step of the friction schedule", 0.0, 1.0, true},
   };
@@ -202,10 +202,10 @@ const BindingTable<GenerationConfig>& generation_keys() {
 const BindingTable<ConsolidationConfig>& consolidation_keys() {
   using S = ConsolidationConfig;
   static const BindingTable<S> table = {
-      {"vertical_stress", &S::vertical_stress, "Pa", "consolidation stress of the top plate", 0.0, {}, true},
+      {"vertical_stress", &S::vertical_stress, "Pa", "consolidation stress of the top plate", 0.0, 1e9, true},
       {"tolerance", &S::tolerance, "-", "relative stress error that counts as on target", 0.0, 0.5, true},
       {"servo_relaxation", &S::servo_relaxation, "-", "servo alpha_s: fraction of the stress error removed per step", 0.0, 1.0, true},
-      {"servo_max_speed", &S::servo_max_speed, "m/s", "speed cap of the servo plate", 0.0, {}, true},
+      {"servo_max_speed", &S::servo_max_speed, "m/s", "speed cap of the servo plate", 0.0, 100.0, true},
       {"settle_steps", &S::settle_steps, "-", "consecutive on-target steps that end consolidation", 1.0},
       {"max_steps", &S::max_steps, "-", "steps after which consolidation stops with a warning", 1.0},
   };
@@ -223,10 +223,10 @@ const BindingTable<ShearConfig>& shear_keys() {
        "what local damping measures velocities against while shearing: plates: the plates' affine field, uniform simple shear between them; fixed: the fixed frame, PFC's, which brakes the layers that move with a plate and so loads the sand next to the moving plate more (docs/model.md 3.1)"},
       {"directions_deg", &S::directions_deg, "deg", "direction of each shear leg in the horizontal plane, from +x towards +y", -360.0, 360.0},
       {"leg_strains", &S::leg_strains, "-", "shear strain of each leg; empty: one leg of shear.target_strain", 0.0},
-      {"target_strain", &S::target_strain, "-", "shear strain of a single-leg test", 0.0, {}, true, io::FixedAfter::never()},
-      {"servo_max_speed", &S::servo_max_speed, "m/s", "speed cap of the servo plate while shearing; 0: the larger of consolidation.servo_max_speed and the shear plate speed (a dilating specimen lifts the top plate at up to its dilatancy ratio times that speed)", 0.0},
+      {"target_strain", &S::target_strain, "-", "shear strain of a single-leg test", 0.0, 100.0, true, io::FixedAfter::never()},
+      {"servo_max_speed", &S::servo_max_speed, "m/s", "speed cap of the servo plate while shearing; 0: the larger of consolidation.servo_max_speed and the shear plate speed (a dilating specimen lifts the top plate at up to its dilatancy ratio times that speed)", 0.0, 100.0},
       {"inertial_number", &S::inertial_number, "-", "quasi-static inertial number that sets the shear rate", 0.0, 0.1, true},
-      {"strain_rate", &S::strain_rate, "1/s", "shear strain rate, 0: from shear.inertial_number", 0.0},
+      {"strain_rate", &S::strain_rate, "1/s", "shear strain rate, 0: from shear.inertial_number", 0.0, 1e6},
   };
   return table;
 }
@@ -246,7 +246,7 @@ const BindingTable<OutputConfig>& output_keys() {
   static const BindingTable<S> table = [] {
     const BindingTable<S>& run = run_output_keys();
     return BindingTable<S>{
-        {"every_strain", &S::every_strain, "-", "shear strain between history rows", 0.0, {}, true},
+        {"every_strain", &S::every_strain, "-", "shear strain between history rows", 0.0, 100.0, true},
         {"fabric_strains", &S::fabric_strains, "-", "shear strains of rose diagrams (0: after consolidation)", 0.0},
         {"snapshot_strains", &S::snapshot_strains, "-", "shear strains of VTK snapshots (0: after consolidation)", 0.0},
         run[0],
