@@ -10,34 +10,12 @@
 
 #include <dem/measure/cell_stress.hpp>
 
-#include "support/scenes.hpp"
+#include "support/periodic_lattice.hpp"
 
 using namespace dem;
 using namespace dem::testing;
 
 namespace {
-
-constexpr double normal_stiffness = 4e4;  // N/m
-constexpr int cells_per_edge = 3;          // unit cells of the lattice along each edge of the periodic cell
-constexpr double overlap = 0.01 * 2.0 * radius;  // m, of every neighbour pair before the strain
-
-double lattice_constant() { return std::sqrt(2.0) * (2.0 * radius - overlap); }  // m
-
-/// The lattice, deformed by x -> F x, in its periodic cell.
-World strained_lattice(const Mat3& deformation) {
-  World world(dynamic_settings(1e-9));
-  const double a = lattice_constant();
-  const std::array<Vec3, 4> basis{Vec3(0, 0, 0), Vec3(0.5, 0.5, 0), Vec3(0.5, 0, 0.5), Vec3(0, 0.5, 0.5)};
-  for (int i = 0; i < cells_per_edge; ++i)
-    for (int j = 0; j < cells_per_edge; ++j)
-      for (int k = 0; k < cells_per_edge; ++k)
-        for (const Vec3& b : basis)
-          world.add_ball(ball_at(deformation * ((Vec3(i, j, k) + b + Vec3::Constant(0.25)) * a)));
-  world.set_periodic_cell(PeriodicCell(deformation * (cells_per_edge * a * Mat3::Identity())));
-  world.set_contact_model(ContactKind::BallBall,
-                          make_contact_model<LinearLaw>(LinearParams::constant(normal_stiffness, normal_stiffness, 0.5)));
-  return world;
-}
 
 /// The springs' stress (Pa, tension positive): each ball's six neighbour pairs d = F d0, each
 /// pushing with kn (2R - |d|) along d, summed over the balls and divided by the volume.
@@ -49,10 +27,10 @@ Mat3 spring_stress(const Mat3& deformation) {
   for (const Vec3& d0 : half_shell) {
     const Vec3 d = deformation * (0.5 * a * d0);
     const double length = d.norm();
-    moment += normal_stiffness * (2.0 * radius - length) * (d / length) * d.transpose();
+    moment += lattice_stiffness * (2.0 * radius - length) * (d / length) * d.transpose();
   }
-  const double balls = 4.0 * std::pow(cells_per_edge, 3);
-  const double volume = deformation.determinant() * std::pow(cells_per_edge * a, 3);
+  const double balls = 4.0 * std::pow(lattice_cells, 3);
+  const double volume = deformation.determinant() * std::pow(lattice_cells * a, 3);
   return -balls / volume * moment;
 }
 
@@ -67,7 +45,7 @@ TEST_CASE("cell stress: a face-centred cubic lattice under a small strain gives 
             0.5, -0.7, 0.3,
             0.2, 0.3, 0.4;
   const Mat3 deformation = Mat3::Identity() + 1e-3 * strain;  // skews the cell
-  World world = strained_lattice(deformation);
+  World world = fcc_lattice(deformation);
   world.step(1);
   const measure::CellStress measured = measure::cell_stress(world);
   const Mat3 expected = spring_stress(deformation);
@@ -75,13 +53,13 @@ TEST_CASE("cell stress: a face-centred cubic lattice under a small strain gives 
   CHECK(world.contact_count(ContactKind::BallBall) == 6u * 4u * 27u);  // every neighbour, across the faces too
   CHECK(largest(measured.stress - expected) <= 1e-9 * largest(expected));
   CHECK(largest(measured.kinetic_part) <= 1e-12 * largest(expected));
-  CHECK(measured.volume == Approx(deformation.determinant() * std::pow(cells_per_edge * lattice_constant(), 3)));
+  CHECK(measured.volume == Approx(deformation.determinant() * std::pow(lattice_cells * lattice_constant(), 3)));
 }
 
 TEST_CASE("cell stress: a rigid rotation of a compressed lattice leaves its stress as it was",
           "[physics][periodic][cell-stress]") {
   const Mat3 deformation = (1.0 - 1e-3) * Mat3::Identity();  // isotropic: the stress is too
-  World world = strained_lattice(deformation);
+  World world = fcc_lattice(deformation);
   const Vec3 spin(0.3, -0.5, 0.8);  // rad/s
   Mat3 rotation_rate;             // W x = spin x x
   rotation_rate << 0, -spin.z(), spin.y(),

@@ -14,6 +14,7 @@
 #include <dem/core/block_isa.hpp>
 #include <dem/io/world_state.hpp>
 
+#include "support/isa_scope.hpp"
 #include "support/scenes.hpp"
 
 using namespace dem;
@@ -94,14 +95,13 @@ void compare_across(const std::array<int, 3>& across, const Vec3& first_position
 TEST_CASE("periodic cell: a pair across a face, an edge and a corner feels the force it feels inside the cell",
           "[physics][periodic]") {
   for (const auto isa : {detail::BlockIsa::scalar, detail::detected_block_isa()}) {
-    detail::use_block_isa(isa);  // both loop paths: one contact at a time, and the SIMD blocks
+    const BlockIsaScope scope(isa);  // both loop paths: one contact at a time, and the SIMD blocks
     INFO("instruction set " << static_cast<int>(detail::block_isa()));
     compare_across({-1, 0, 0}, Vec3(0.3e-3, 5e-3, 5e-3));               // a face
     compare_across({0, 0, 1}, Vec3(5e-3, 5e-3, cell_edge - 0.3e-3));    // the face across the shear
     compare_across({-1, 0, 1}, Vec3(0.3e-3, 5e-3, cell_edge - 0.3e-3));  // an edge
     compare_across({1, -1, -1}, Vec3(cell_edge - 0.3e-3, 0.3e-3, 0.3e-3));  // a corner
   }
-  detail::use_block_isa(detail::detected_block_isa());
 }
 
 TEST_CASE("periodic cell: a ball that leaves through a face re-enters with its contact's history",
