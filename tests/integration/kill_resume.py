@@ -131,7 +131,7 @@ def world_fields(state):
         take(f"wall{w}.surface", 1 + 2 * 24 + 8)
     wall_contacts("surface_contacts")
     if take("periodic_cell", 1) == b"\x01":  # format 3: the periodic cell
-        take("cell", 24 + 3 * 72 + 3)
+        take("cell", 24 + 2 * 72 + 3 + 1 + 72)  # origin, h, L, axes, re-map flag, h at rebuild
         array("ball_ball.image", 1)
         array("ball_pebble.image", 1)
     if at != len(state):

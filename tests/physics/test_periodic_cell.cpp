@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <random>
 #include <sstream>
 
@@ -15,6 +16,7 @@
 #include <dem/io/world_state.hpp>
 
 #include "support/isa_scope.hpp"
+#include "support/periodic_lattice.hpp"
 #include "support/scenes.hpp"
 
 using namespace dem;
@@ -296,4 +298,59 @@ TEST_CASE("periodic cell: a restart file of format 2 (no cell) still loads", "[p
   std::stringstream again;
   io::write_world_state(again, loaded);
   REQUIRE(again.str() == format_3);
+}
+
+namespace {
+
+/// Every touching ball-ball contact's force on its piece 2 (N), by the two balls' ids.
+std::map<std::pair<ParticleId, ParticleId>, Vec3> contact_forces(const World& world) {
+  std::map<std::pair<ParticleId, ParticleId>, Vec3> forces;
+  const ParticleStore& p = world.particles();
+  world.for_each_contact([&](const ContactView& c) {
+    forces[{p.id[c.first], p.id[static_cast<std::size_t>(c.second)]}] = c.force;
+  });
+  return forces;
+}
+
+}  // namespace
+
+TEST_CASE("periodic cell: re-mapping a sheared cell changes no force", "[physics][periodic][remap]") {
+  // A lattice of 256 balls flowing with a cell sheared just short of the tilt limit (0.6), stepped
+  // with and without the re-map: where the cell is re-mapped to tilt -0.4, every ball's force is
+  // the one of the cell that was not, to rounding, and stays so.
+  const double rate = 400.0;  // 1/s, dv_x/dy
+  Mat3 shear = Mat3::Identity();
+  shear(0, 1) = 0.59;
+  Mat3 gradient = Mat3::Zero();
+  gradient(0, 1) = rate;
+  WorldSettings settings = dynamic_settings(5e-7);
+  World remapped = fcc_lattice(shear, settings, 4), skewed = fcc_lattice(shear, settings, 4);
+  for (World* w : {&remapped, &skewed}) {
+    w->set_velocity_gradient(gradient);
+    ParticleStore& p = w->particles();
+    for (std::size_t i = 0; i < p.size(); ++i) p.v[i] = gradient * p.x[i], p.w[i] = Vec3(0, 0, -0.5 * rate);
+  }
+  PeriodicCell no_remap = *skewed.periodic_cell();
+  no_remap.set_tilt_remap(false);
+  skewed.set_periodic_cell(no_remap);
+  const double tilt_to_edge = 1.0 / (4 * lattice_constant());
+  for (int s = 0; s < 200; ++s) {
+    remapped.step(1), skewed.step(1);
+    const auto remapped_forces = contact_forces(remapped), skewed_forces = contact_forces(skewed);
+    REQUIRE(remapped_forces.size() == skewed_forces.size());
+    double largest = 0.0, differs = 0.0;
+    for (const auto& [pair, f] : skewed_forces) {
+      REQUIRE(remapped_forces.count(pair) == 1);
+      largest = std::max(largest, f.norm());
+      differs = std::max(differs, (remapped_forces.at(pair) - f).norm());
+    }
+    INFO("step " << s << ": tilt " << remapped.periodic_cell()->matrix()(0, 1) * tilt_to_edge << " against "
+                 << skewed.periodic_cell()->matrix()(0, 1) * tilt_to_edge);
+    REQUIRE(largest > 0.0);
+    REQUIRE(differs <= 1e-9 * largest);
+    if (s == 60)  // tilt 0.602: this rebuild re-maps
+      remapped.rebuild_now(false), skewed.rebuild_now(false);
+  }
+  CHECK(remapped.periodic_cell()->matrix()(0, 1) * tilt_to_edge == Approx(-0.37).margin(0.005));
+  CHECK(skewed.periodic_cell()->matrix()(0, 1) * tilt_to_edge == Approx(0.63).margin(0.005));
 }

@@ -82,6 +82,30 @@ ImageShifts PeriodicCell::image_shifts() const {
   return shifts;
 }
 
+bool PeriodicCell::remap_tilt(double tilt_limit) {
+  if (!tilt_remap_) return false;
+  Mat3 h = h_;
+  bool changed = false;
+  // Edge `moved` minus k times edge `along`, k the rounded tilt factor, if that factor exceeds the
+  // limit. The factor is the component of `moved` along the unit vector `axis` (the Gram-Schmidt
+  // axis of `along`) divided by `along`'s own component there.
+  const auto reduce = [&](int moved, int along, const Vec3& axis) {
+    const double factor = h.col(moved).dot(axis) / h.col(along).dot(axis);
+    if (!(std::abs(factor) > tilt_limit)) return;
+    h.col(moved) -= std::round(factor) * h.col(along);
+    changed = true;
+  };
+  // The order of LAMMPS's flips: the third edge along the second, then along the first, then the
+  // second along the first.
+  const Vec3 first_axis = h.col(0).normalized();
+  const Vec3 second_axis = (h.col(1) - h.col(1).dot(first_axis) * first_axis).normalized();
+  reduce(2, 1, second_axis);
+  reduce(2, 0, first_axis);
+  reduce(1, 0, first_axis);
+  if (changed) set_matrix(h);
+  return changed;
+}
+
 double PeriodicCell::image_travel_since(const Mat3& then) const {
   const Mat3 moved = h_ - then;
   return moved.col(0).norm() + moved.col(1).norm() + moved.col(2).norm();

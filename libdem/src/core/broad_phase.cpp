@@ -255,6 +255,7 @@ bool BroadPhase::needs_rebuild(const WorldState& state) {
 void BroadPhase::find_periodic_candidates(WorldState& state, int threads, bool resort, std::vector<std::int32_t>& first,
                                           std::vector<std::int32_t>& second, std::vector<std::uint8_t>& image) {
   ParticleStore& p = state.particles;
+  state.cell->remap_tilt();  // a cell sheared far: an equivalent, less skewed one (same images)
   const PeriodicCell& cell = *state.cell;
   // A particle that has left the cell comes back through the opposite face as its own image:
   // x - h m, moving at v - L h m (in a deforming cell the image's velocity differs by the flow's).

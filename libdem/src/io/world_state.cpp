@@ -93,6 +93,7 @@ void read_periodic_cell(Reader& r, WorldState& s) {
   std::array<bool, 3> axes{};
   for (std::size_t a = 0; a < 3; ++a) axes[a] = r.flag(at("periodic cell axes", a));
   cell.set_periodic_axes(axes);
+  cell.set_tilt_remap(r.flag("periodic cell tilt re-map"));
   s.rebuild.cell_at_rebuild = read_matrix(r, "periodic cell matrix at the last rebuild");
   s.contacts.for_each_pair_set([&](PairContacts& c) {
     const std::string field = std::string(to_string(c.kind)) + " images";
@@ -172,6 +173,7 @@ void write_world_state(std::ostream& out, const World& world) {
     for (int i = 0; i < 9; ++i) w.pod(cell.matrix().data()[i]);
     for (int i = 0; i < 9; ++i) w.pod(cell.velocity_gradient().data()[i]);
     for (const bool periodic : cell.periodic_axes()) w.pod(periodic);
+    w.pod(cell.tilt_remap());
     for (int i = 0; i < 9; ++i) w.pod(record.cell_at_rebuild.data()[i]);
     w.vec(contacts.ball_ball.image);
     w.vec(contacts.ball_pebble.image);

@@ -14,9 +14,11 @@
 // (image_code): while the cell is at least three search cells wide (the World refuses a smaller
 // one), a particle touches at most one image of another, and only one in a neighbouring cell.
 //
-// Not here yet: re-mapping a cell sheared past its tilt limit to an equivalent, less skewed one
-// (LAMMPS's flip, YADE's flipCell). Until then a large shear skews the cell and its search cells
-// (the neighbour search stays right, but a very skewed cell holds fewer search cells).
+// A cell sheared far is re-mapped to an equivalent, less skewed one (LAMMPS's flip, YADE's
+// flipCell): an edge is replaced by itself minus a whole multiple of another, h' = h M with M an
+// integer matrix of determinant 1, which tiles space with the same images. The World does it at a
+// rebuild (remap_tilt), where the particles are wrapped into the new cell and every contact's
+// image is found again, so no contact loses its history and no force jumps.
 #pragma once
 
 #include <array>
@@ -95,6 +97,17 @@ class PeriodicCell {
   /// The mean-field velocity L (x - origin) at x (m/s): the velocity of the affine deformation.
   Vec3 affine_velocity(const Vec3& x) const { return velocity_gradient_ * (x - origin_); }
 
+  /// Re-maps a cell whose tilt factors exceed `tilt_limit` (LAMMPS's, in the frame of the cell's
+  /// own Gram-Schmidt axes: the first edge's component of the second along it, and the third's
+  /// along the first two, each divided by that edge's length there) by whole edges, each factor
+  /// then at most 1/2 in size. The limit is above 1/2 so that a shear reversing near 1/2 does not
+  /// re-map back and forth. Returns true if h changed. Only when tilt_remap() is on.
+  bool remap_tilt(double tilt_limit = 0.6);
+  /// Whether the World re-maps a skewed cell at its rebuilds (default on; off for comparisons with
+  /// codes that do not, such as LAMMPS's fix deform with flip no).
+  bool tilt_remap() const { return tilt_remap_; }
+  void set_tilt_remap(bool remap) { tilt_remap_ = remap; }
+
   /// The largest distance (m) any image shift h n (|n_a| <= 1) has moved since the cell was `then`:
   /// the sum of the edges' displacements, which bounds how far a contact's image has moved.
   double image_travel_since(const Mat3& then) const;
@@ -105,6 +118,7 @@ class PeriodicCell {
   Vec3 origin_;
   Mat3 velocity_gradient_ = Mat3::Zero();
   std::array<bool, 3> periodic_{true, true, true};
+  bool tilt_remap_ = true;
 };
 
 /// "x y z", the names of the axes flagged in `axes` (for messages).

@@ -32,8 +32,9 @@ class BroadPhase {
   /// incidence, carrying the history of each touching contact over through `models`. `resort`:
   /// re-sorts the particles in cell order first (storage indices change; ids do not).
   ///
-  /// In a periodic cell the particles that have left it are first put back through the opposite
-  /// face (x - h m, and v - L h m: the image's velocity), and each pair candidate is found with the
+  /// In a periodic cell a cell sheared past its tilt limit is first re-mapped to an equivalent,
+  /// less skewed one (PeriodicCell::remap_tilt), the particles that have left it are put back
+  /// through the opposite face (x - h m, and v - L h m: the image's velocity), and each pair candidate is found with the
   /// image of its piece 2 that piece 1 reaches (PairContacts::image), so a contact across a face
   /// keeps its history by ids as any other. InputError for a cell thinner than three search cells.
   void rebuild(WorldState& state, const ContactModelTable& models, int threads, bool resort);
