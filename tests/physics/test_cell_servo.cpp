@@ -49,7 +49,32 @@ TEST_CASE("cell servo: a lattice is brought to an isotropic stress, then held la
   CHECK(std::abs(after.x() - target) <= 0.02 * target);
   CHECK(std::abs(after.y() - target) <= 0.02 * target);
   CHECK(after.z() > 1.05 * target);  // about 0.14 % axial strain on a 1 % overlap
-  CHECK(world.periodic_cell()->matrix()(2, 2) == Approx(height * std::pow(1.0 + rate * world.time_step(), steps)).epsilon(1e-12));
+  CHECK(world.periodic_cell()->matrix()(2, 2) == Approx(height * std::exp(rate * world.time_step() * steps)).epsilon(1e-12));
+}
+
+TEST_CASE("cell servo: constant volume under axial compression, the lateral stress following a path",
+          "[physics][periodic][cell-servo]") {
+  WorldSettings settings;  // local damping 0.7, automatic time step
+  World world = fcc_lattice(Mat3::Identity(), settings);
+  world.step(1);
+  world.update_time_step();
+  const double target = 1.5 * normal_stresses(world).mean();
+  auto servo = add_cell_servo(world, CellServoSettings::isotropic(target, 2.0));
+  REQUIRE(world.run_until([&](const World&) { return servo->settled(); }, 100, 50'000));
+  // z shortens at 1/s, y keeps the volume, x follows a ramp of stress to 1.1 x target.
+  const double start = world.time(), duration = 3000 * world.time_step();
+  servo->set_rate(CellComponent::zz, -1.0);
+  servo->hold_volume(CellComponent::yy);
+  servo->set_stress_path(CellComponent::xx, [=](double t) { return target * (1.0 + 0.1 * std::min(1.0, (t - start) / duration)); });
+  const double volume = world.periodic_cell()->volume();
+  const double width = world.periodic_cell()->matrix()(1, 1);
+  world.step(3500);
+  const Vec3 after = normal_stresses(world);
+  INFO("after: " << after.transpose() << " Pa, target " << target);
+  CHECK(std::abs(world.periodic_cell()->volume() - volume) <= 1e-9 * volume);
+  CHECK(world.periodic_cell()->matrix()(1, 1) > width);  // y widened as z shortened
+  CHECK(std::abs(after.x() - 1.1 * target) <= 0.02 * target);
+  REQUIRE_THROWS_WITH(servo->hold_volume(CellComponent::xy), Catch::Contains("xx, yy or zz"));
 }
 
 TEST_CASE("cell servo: bad settings are refused, naming the key", "[physics][periodic][cell-servo]") {

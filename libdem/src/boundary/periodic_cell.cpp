@@ -40,7 +40,10 @@ void PeriodicCell::set_velocity_gradient(const Mat3& velocity_gradient) {
 
 void PeriodicCell::advance(double dt) {
   if (velocity_gradient_.isZero(0.0)) return;
-  set_matrix(h_ + dt * (velocity_gradient_ * h_));
+  const Mat3 a = dt * velocity_gradient_;
+  // exp(A) = I + A + A^2/2 + A^3/6 + A^4/24 + ..., in Horner's form
+  const Mat3 step = Mat3::Identity() + a * (Mat3::Identity() + a * (0.5 * Mat3::Identity() + a * (Mat3::Identity() / 6.0 + a / 24.0)));
+  set_matrix(step * h_);
 }
 
 Vec3 PeriodicCell::widths() const {

@@ -32,20 +32,50 @@ void CellServoSettings::validate(const std::string& where) const {
   require(settle_steps >= 1, where + ".settle_steps", settle_steps, ">= 1 (steps)");
 }
 
-CellServo::CellServo(CellServoSettings settings) : settings_(settings) { settings_.validate(); }
+CellServo::CellServo(CellServoSettings settings) : settings_(settings) {
+  settings_.validate();
+  for (std::size_t a = 0; a < 6; ++a) mode_[a] = settings_.stress_controlled[a] ? Mode::stress : Mode::rate;
+}
+
+void CellServo::set_mode(CellComponent component, Mode mode) {
+  const auto a = static_cast<std::size_t>(component);
+  mode_[a] = mode;
+  settings_.stress_controlled[a] = mode == Mode::stress;
+  path_[a] = nullptr;
+  steps_held_ = 0;
+}
 
 void CellServo::set_stress(CellComponent component, double stress) {
   require(std::isfinite(stress), std::string("cell servo target.") + to_string(component), stress,
           "finite (Pa, compression positive)");
-  settings_.stress_controlled[static_cast<std::size_t>(component)] = true;
+  set_mode(component, Mode::stress);
   settings_.target[static_cast<std::size_t>(component)] = stress;
-  steps_held_ = 0;
 }
 
 void CellServo::set_rate(CellComponent component, double rate) {
   require(std::isfinite(rate), std::string("cell servo target.") + to_string(component), rate, "finite (1/s)");
-  settings_.stress_controlled[static_cast<std::size_t>(component)] = false;
+  set_mode(component, Mode::rate);
   settings_.target[static_cast<std::size_t>(component)] = rate;
+}
+
+void CellServo::set_stress_path(CellComponent component, std::function<double(double time)> stress) {
+  require(static_cast<bool>(stress), std::string("cell servo stress path.") + to_string(component), "empty", "a callable");
+  set_mode(component, Mode::stress);
+  path_[static_cast<std::size_t>(component)] = std::move(stress);
+}
+
+void CellServo::set_rate_path(CellComponent component, std::function<double(double time)> rate) {
+  require(static_cast<bool>(rate), std::string("cell servo rate path.") + to_string(component), "empty", "a callable");
+  set_mode(component, Mode::rate);
+  path_[static_cast<std::size_t>(component)] = std::move(rate);
+}
+
+void CellServo::hold_volume(CellComponent normal) {
+  require(static_cast<int>(normal) < 3, "cell servo volume component", to_string(normal),
+          "a normal component (xx, yy or zz)");
+  for (std::size_t a = 0; a < 3; ++a)
+    if (mode_[a] == Mode::volume) set_mode(static_cast<CellComponent>(a), Mode::rate);  // one at a time
+  set_mode(normal, Mode::volume);
 }
 
 void CellServo::operator()(World& world) {
@@ -74,6 +104,13 @@ void CellServo::operator()(World& world) {
       }
     });
   const double dt = world.time_step();
+  for (std::size_t a = 0; a < 6; ++a)  // the paths' targets now
+    if (path_[a]) {
+      const double target = path_[a](world.time());
+      require(std::isfinite(target), std::string("cell servo path.") + to_string(static_cast<CellComponent>(a)), target,
+              "finite at every time");
+      settings_.target[a] = target;
+    }
   double scale = 0.0;  // Pa, the mean |target| of the stress-controlled normal components
   int normal_held = 0;
   for (std::size_t a = 0; a < 3; ++a)
@@ -84,7 +121,8 @@ void CellServo::operator()(World& world) {
   for (std::size_t a = 0; a < 6; ++a) {
     const auto [r, s] = cell_component_index[a];
     stiffness_[a] = moment[a] / stress_.volume;
-    if (!settings_.stress_controlled[a]) {
+    if (mode_[a] == Mode::volume) continue;  // below, once the other normal rates are known
+    if (mode_[a] == Mode::rate) {
       gradient(r, s) = settings_.target[a];
       continue;
     }
@@ -94,6 +132,8 @@ void CellServo::operator()(World& world) {
                                                         : (error > 0.0 ? -settings_.max_rate : settings_.max_rate);
     gradient(r, s) = std::clamp(rate, -settings_.max_rate, settings_.max_rate);
   }
+  for (int a = 0; a < 3; ++a)
+    if (mode_[static_cast<std::size_t>(a)] == Mode::volume) gradient(a, a) = -(gradient.trace() - gradient(a, a));
   steps_held_ = held ? steps_held_ + 1 : 0;
   world.set_velocity_gradient(gradient);
 }

@@ -23,11 +23,14 @@
 //   world.run_until([&](const dem::World&) { return servo->settled(); }, 100, 1'000'000);
 //   servo->set_rate(dem::CellComponent::zz, -0.01);   // 1/s, shortening; xx yy keep their stress
 //
-// Not here yet: time paths of targets (cyclic, CSV), constant mean stress and constant volume as
-// paths (issue 58's control part).
+// A target may follow a path in time (set_stress_path, set_rate_path: the cyclic shear's paths
+// and CSV series are such functions), and one normal component may keep the volume instead
+// (hold_volume: its rate is minus the sum of the other two, so tr L = 0, which the cell's
+// exponential step keeps to rounding). Not here yet: constant mean stress as a path of its own.
 #pragma once
 
 #include <array>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -72,6 +75,13 @@ class CellServo {
   void set_stress(CellComponent component, double stress);
   /// Prescribes `component`'s rate L_ab (1/s) from the next step on.
   void set_rate(CellComponent component, double rate);
+  /// The same with a target that follows the World's time (s): evaluated every step, it must
+  /// return a finite value (else InputError at that step).
+  void set_stress_path(CellComponent component, std::function<double(double time)> stress);
+  void set_rate_path(CellComponent component, std::function<double(double time)> rate);
+  /// The normal component (xx, yy or zz) whose rate keeps the cell's volume: minus the sum of the
+  /// other two normal rates. InputError for a shear component.
+  void hold_volume(CellComponent normal);
   const CellServoSettings& settings() const { return settings_; }
 
   /// The cell stress of the last step (tension positive, as measure::cell_stress).
@@ -82,7 +92,13 @@ class CellServo {
   bool settled() const { return steps_held_ >= settings_.settle_steps; }
 
  private:
+  enum class Mode { rate, stress, volume };
+  /// Sets `component`'s mode and clears its path.
+  void set_mode(CellComponent component, Mode mode);
+
   CellServoSettings settings_;
+  std::array<Mode, 6> mode_{};
+  std::array<std::function<double(double)>, 6> path_;  // empty: the constant settings_.target
   measure::CellStress stress_;
   std::array<double, 6> stiffness_{};
   int steps_held_ = 0;
