@@ -1,4 +1,5 @@
-// A periodic cell: a parallelepiped that space is tiled with, so that a specimen has no walls.
+// A periodic cell: a parallelepiped that space is tiled with, so that a specimen has no walls
+// (docs/model.md 13).
 // Its edge vectors are the columns of the cell matrix h (m), from the corner `origin`; a point x
 // has reduced coordinates s = h^-1 (x - origin), in [0, 1) on every axis inside the cell. The
 // cell deforms with a velocity gradient L (1/s): h' = L h, integrated by the World every step

@@ -3,7 +3,7 @@
 // shears yz xz xy as the upper triangle of L, so that an upper-triangular cell stays one, as
 // LAMMPS's triclinic box) is either prescribed as a rate or set every step by a servo so that
 // the matching cell stress (measure/cell_stress.hpp, compression positive here) approaches a
-// target. The lower triangle of L is zero: the cell does not spin.
+// target. The lower triangle of L is zero: the cell does not spin (docs/model.md 13).
 //
 // The gain rule follows the servo wall's (control/servo_wall.hpp, docs/model.md 5): a strain
 // increment de_ab of the cell moves an affine packing's stress by K_ab de_ab, with

@@ -1,7 +1,7 @@
 // The stress of a periodic cell (boundary/periodic_cell.hpp): the whole cell is the averaging
 // volume, so the Love-Weber sum runs over every contact, each with its branch vector to the image
 // it touches, plus the kinetic (Reynolds) term of the particles' velocities about the cell's mean
-// flow:
+// flow (docs/model.md 13):
 //
 //   sigma = -(1 / V) [ sum_c F_c (outer) d_c  +  sum_p m_p u_p (outer) u_p ],   V = det h,
 //
