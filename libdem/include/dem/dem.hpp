@@ -16,6 +16,7 @@
 #include <dem/core/world.hpp>
 #include <dem/geometry/mesh.hpp>
 #include <dem/geometry/triangle.hpp>
+#include <dem/measure/cell_state.hpp>
 #include <dem/measure/cell_stress.hpp>
 #include <dem/measure/measurement_sphere.hpp>
 #include <dem/measure/principal_stress.hpp>
