@@ -271,6 +271,9 @@ TEST_CASE("periodic cell: what is not supported yet is refused, naming it", "[ph
   REQUIRE_THROWS_WITH(World().set_periodic_cell(partly), Catch::Contains("x y z"));
   REQUIRE_THROWS_WITH(World().set_velocity_gradient(Mat3::Zero()), Catch::Contains("periodic cell"));
   REQUIRE_THROWS_AS(PeriodicCell(Mat3::Zero()), InputError);
+  WorldState with_cell_and_wall = world.state();  // a state cannot bring in what the API refuses
+  with_cell_and_wall.walls.push_back(floor_wall(0.0, cell_edge));
+  REQUIRE_THROWS_WITH(world.restore(with_cell_and_wall), Catch::Contains("walls or clumps"));
   // A cell thinner than three search cells: refused at the first step.
   World thin;
   thin.add_ball(ball_at(Vec3::Constant(1e-3)));

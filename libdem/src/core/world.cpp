@@ -219,6 +219,13 @@ void World::rebuild(bool resort) {
 }
 
 void World::restore(WorldState state) {
+  if (state.cell) {  // what set_periodic_cell refuses, a state cannot bring in either
+    require(ranks() <= 1, "a restored periodic cell in a World spread over processes", std::to_string(ranks()) + " processes",
+            "one process: the subdomains do not wrap across the cell's faces yet");
+    require(state.walls.empty() && state.clumps.empty(), "a restored periodic cell with walls or clumps",
+            std::to_string(state.walls.size()) + " walls, " + std::to_string(state.clumps.size()) + " clumps",
+            "none: they are not supported in a periodic cell yet");
+  }
   state_ = std::move(state);
   pebble_layout_stale_ = true;
   pair_records_current_ = true;  // a restart file holds the records of its last step
