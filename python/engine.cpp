@@ -557,6 +557,7 @@ void bind_engine(py::module_& m) {
              io::read_world_state(in, w);
            }, py::arg("file"),
            "Replaces the state with the one save_state wrote to `file` (set the same contact models first)");
+  bind_periodic(m, world_class);
 }
 
 }  // namespace dem::python

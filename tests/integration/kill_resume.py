@@ -131,6 +131,10 @@ def world_fields(state):
     for w in range(walls):  # format 2: the walls' analytic surfaces and their contacts
         take(f"wall{w}.surface", 1 + 2 * 24 + 8)
     wall_contacts("surface_contacts")
+    if take("periodic_cell", 1) == b"\x01":  # format 3: the periodic cell
+        take("cell", 24 + 2 * 72 + 3 + 1 + 72)  # origin, h, L, axes, re-map flag, h at rebuild
+        array("ball_ball.image", 1)
+        array("ball_pebble.image", 1)
     if at != len(state):
         fail(f"final.restart: {len(state) - at} bytes after the last World field: "
              "kill_resume.py's layout is out of date")

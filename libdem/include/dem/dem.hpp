@@ -8,6 +8,7 @@
 #include <dem/boundary/wall.hpp>
 #include <dem/contact/contact_law.hpp>
 #include <dem/contact/linear_law.hpp>
+#include <dem/control/cell_servo.hpp>
 #include <dem/control/servo_wall.hpp>
 #include <dem/core/contact_loops.hpp>  // make_contact_model for a law of your own
 #include <dem/core/contact_model.hpp>
@@ -15,5 +16,7 @@
 #include <dem/core/world.hpp>
 #include <dem/geometry/mesh.hpp>
 #include <dem/geometry/triangle.hpp>
+#include <dem/measure/cell_state.hpp>
+#include <dem/measure/cell_stress.hpp>
 #include <dem/measure/measurement_sphere.hpp>
 #include <dem/measure/principal_stress.hpp>

@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <sstream>
 
 #include <dem/base/errors.hpp>
 #include <dem/base/threads.hpp>
@@ -241,10 +243,49 @@ void build_incidence(PairContacts& c, std::size_t particles, int threads) {
 
 }  // namespace
 
-bool BroadPhase::needs_rebuild(const RebuildRecord& record) {
+bool BroadPhase::needs_rebuild(const WorldState& state) {
+  const RebuildRecord& record = state.rebuild;
   if (record.need_rebuild) return true;
   const double travel = std::sqrt(record.max_travel_sq);
+  // Two particles, one of them seen through an image that moved with the cell's edges.
+  if (state.cell) return 2.0 * travel + state.cell->image_travel_since(record.cell_at_rebuild) > record.skin;
   return 2.0 * travel > record.skin || travel + record.max_wall_travel > record.skin;
+}
+
+void BroadPhase::find_periodic_candidates(WorldState& state, int threads, bool resort, std::vector<std::int32_t>& first,
+                                          std::vector<std::int32_t>& second, std::vector<std::uint8_t>& image) {
+  ParticleStore& p = state.particles;
+  state.cell->remap_tilt();  // a cell sheared far: an equivalent, less skewed one (same images)
+  const PeriodicCell& cell = *state.cell;
+  // A particle that has left the cell comes back through the opposite face as its own image:
+  // x - h m, moving at v - L h m (in a deforming cell the image's velocity differs by the flow's).
+  const auto n = static_cast<std::int64_t>(p.size());
+#pragma omp parallel for schedule(static) num_threads(open_team(threads_for(n, threads)))
+  for (std::int64_t k = 0; k < n; ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    const std::array<int, 3> m = cell.cells_out(p.x[i]);
+    if (m[0] == 0 && m[1] == 0 && m[2] == 0) continue;
+    p.x[i] -= cell.image_shift(m);
+    p.v[i] -= cell.image_velocity_shift(m);
+  }
+  double max_radius = 0.0;
+  for (double r : p.radius) max_radius = std::max(max_radius, r);
+  const double search = 2.0 * max_radius + state.rebuild.skin;
+  const std::array<int, 3> dims = PeriodicGrid::dims_for(cell.widths(), search);
+  if (std::min({dims[0], dims[1], dims[2]}) < 3) {
+    std::ostringstream widths;
+    widths << "(" << cell.widths().transpose() << ") m";
+    require(false, "periodic cell widths (distances between opposite faces)", widths.str(),
+            "at least 3 x (largest diameter + skin) = " + std::to_string(3.0 * search) +
+                " m on every axis, so that a particle reaches at most one image of another: make the cell larger");
+  }
+  periodic_grid_.build(p.x, cell.inverse(), cell.origin(), dims, threads);
+  if (resort && p.size() > 1) {
+    p.permute(periodic_grid_.cell_order(), threads);
+    periodic_grid_.renumber_in_cell_order();
+  }
+  find_periodic_pairs_in(periodic_grid_, p.x, cell.matrix(), p.radius, state.rebuild.skin, threads, first, second, image);
+  state.rebuild.cell_at_rebuild = cell.matrix();
 }
 
 double resolved_skin(const WorldState& state) {
@@ -275,23 +316,31 @@ void BroadPhase::rebuild(WorldState& state, const ContactModelTable& models, int
 
   // Cells of at least the largest diameter plus the skin. After a re-sort the particles are in
   // the grid's own order: the grid of the new storage follows without binning them again.
-  double max_radius = 0.0;
-  for (double r : p.radius) max_radius = std::max(max_radius, r);
-  grid_.build(p.x, 2.0 * max_radius + skin, 0.0, threads);
-  if (resort && p.size() > 1) {
-    p.permute(grid_.cell_order(), threads);
-    grid_.renumber_in_cell_order();
+  // In a periodic cell, the particles wrapped into it and its own grid (find_periodic_candidates).
+  std::vector<std::int32_t> first, second;
+  std::vector<std::uint8_t> image;  // per candidate, in a periodic cell
+  if (state.cell) {
+    find_periodic_candidates(state, threads, resort, first, second, image);
+  } else {
+    double max_radius = 0.0;
+    for (double r : p.radius) max_radius = std::max(max_radius, r);
+    grid_.build(p.x, 2.0 * max_radius + skin, 0.0, threads);
+    if (resort && p.size() > 1) {
+      p.permute(grid_.cell_order(), threads);
+      grid_.renumber_in_cell_order();
+    }
   }
   old_bb.index(p, threads);
   old_bp.index(p, threads);
 
   // Candidate pairs, split by contact type; piece 1 is always a ball. Each thread splits a
   // contiguous range of the candidates, and the ranges are joined in order.
-  std::vector<std::int32_t> first, second;
-  find_pairs_in(grid_, p.x, p.radius, skin, threads, first, second);
+  if (!state.cell) find_pairs_in(grid_, p.x, p.radius, skin, threads, first, second);
+  const bool periodic = state.cell.has_value();
   struct Split {
     std::vector<std::int32_t> bb_first, bb_second, bp_first, bp_second;
     std::vector<std::int64_t> bb_source, bp_source;
+    std::vector<std::uint8_t> bb_image;
   };
   const auto candidates = static_cast<std::int64_t>(first.size());
   const int team = threads_for(candidates, threads);
@@ -305,7 +354,9 @@ void BroadPhase::rebuild(WorldState& state, const ContactModelTable& models, int
       const bool b_pebble = p.is_pebble(static_cast<std::size_t>(b));
       if (!a_pebble && !b_pebble) {
         // Orient by stable id, so that re-sorting never flips a contact (its history is directional).
-        if (p.id[static_cast<std::size_t>(a)] > p.id[static_cast<std::size_t>(b)]) std::swap(a, b);
+        const bool flip = p.id[static_cast<std::size_t>(a)] > p.id[static_cast<std::size_t>(b)];
+        if (flip) std::swap(a, b);
+        if (periodic) out.bb_image.push_back(flip ? opposite_image(image[k]) : image[k]);  // as seen from a
         out.bb_source.push_back(old_bb.find(first[k], second[k]));
         out.bb_first.push_back(a);
         out.bb_second.push_back(b);
@@ -331,6 +382,7 @@ void BroadPhase::rebuild(WorldState& state, const ContactModelTable& models, int
   join(parts, &Split::bb_first, bb.first);
   join(parts, &Split::bb_second, bb.second);
   join(parts, &Split::bb_source, bb_source);
+  join(parts, &Split::bb_image, bb.image);
   join(parts, &Split::bp_first, bp.first);
   join(parts, &Split::bp_second, bp.second);
   join(parts, &Split::bp_source, bp_source);
@@ -410,11 +462,18 @@ void BroadPhase::rebuild(WorldState& state, const ContactModelTable& models, int
   near_stale_ = true;
 }
 
-bool BroadPhase::near_stale() const { return near_stale_ || 2.0 * std::sqrt(max_near_travel_sq_) > near_skin_; }
+bool BroadPhase::near_stale(const WorldState& state) const {
+  if (state.cell)
+    return near_stale_ || 2.0 * std::sqrt(max_near_travel_sq_) + state.cell->image_travel_since(cell_at_near_) > near_skin_;
+  return near_stale_ || 2.0 * std::sqrt(max_near_travel_sq_) > near_skin_;
+}
 
 void BroadPhase::refresh_near(const WorldState& state, StepPlan& plan, int threads_available) {
   const ParticleStore& p = state.particles;
   near_skin_ = state.settings.near_skin > 0.0 ? state.settings.near_skin : 0.2 * state.rebuild.skin;
+  std::optional<ImageShifts> images;
+  if (state.cell) images = state.cell->image_shifts(), cell_at_near_ = state.cell->matrix();
+  const ImageShifts* shifts = images ? &*images : nullptr;
   state.contacts.for_each_pair_set([&](const PairContacts& c) {
     // A candidate left out is more than near_skin apart now, so it cannot touch before some
     // particle has moved half of that, when the list is made again. One that touched in the
@@ -432,7 +491,8 @@ void BroadPhase::refresh_near(const WorldState& state, StepPlan& plan, int threa
         const auto i = static_cast<std::size_t>(c.first[static_cast<std::size_t>(k)]);
         const auto j = static_cast<std::size_t>(c.second[static_cast<std::size_t>(k)]);
         const double reach = p.radius[i] + p.radius[j] + near_skin_;
-        if (c.touching[static_cast<std::size_t>(k)] || branch(p.x.data(), i, j).squaredNorm() < reach * reach)
+        if (c.touching[static_cast<std::size_t>(k)] ||
+            contact_branch(c, static_cast<std::size_t>(k), p.x.data(), shifts).squaredNorm() < reach * reach)
           out.push_back(static_cast<std::int32_t>(k));
       }
     }

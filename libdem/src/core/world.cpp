@@ -50,6 +50,8 @@ ParticleId World::add_ball(const BallSpec& spec) {
 }
 
 ClumpId World::add_clump(const ClumpSpec& spec) {
+  require(!state_.cell, "a clump in a World with a periodic cell", "refused",
+          "none: clumps are not supported in a periodic cell yet (their pebbles would wrap one by one)");
   const ClumpId cid = static_cast<ClumpId>(state_.clumps.size());
   spec.validate("clump " + std::to_string(cid));
   Clump c;
@@ -80,9 +82,30 @@ ClumpId World::add_clump(const ClumpSpec& spec) {
 }
 
 WallId World::add_wall(Wall wall) {
+  require(!state_.cell, "wall '" + wall.name + "' in a World with a periodic cell", "refused",
+          "none: the cell is periodic on every axis (x y z), and a wall would cut the tiling; walls across "
+          "a non-periodic axis are not supported yet");
   state_.walls.push_back(std::move(wall));
   state_.rebuild.need_rebuild = true;
   return static_cast<WallId>(state_.walls.size() - 1);
+}
+
+void World::set_periodic_cell(const PeriodicCell& cell) {
+  require(cell.periodic_axes() == std::array<bool, 3>{true, true, true}, "periodic cell axes",
+          axis_names(cell.periodic_axes()), "x y z (periodic on all three axes: the only cell supported for now)");
+  require(state_.walls.empty(), "periodic cell with walls", std::to_string(state_.walls.size()) + " walls",
+          "no walls: the cell is periodic on every axis (x y z), and a wall would cut the tiling");
+  require(state_.clumps.empty(), "periodic cell with clumps", std::to_string(state_.clumps.size()) + " clumps",
+          "no clumps: clumps are not supported in a periodic cell yet (their pebbles would wrap one by one)");
+  require(ranks() <= 1, "periodic cell in a World spread over processes", std::to_string(ranks()) + " processes",
+          "one process: the subdomains do not wrap across the cell's faces yet");
+  state_.cell = cell;
+  state_.rebuild.need_rebuild = true;
+}
+
+void World::set_velocity_gradient(const Mat3& velocity_gradient) {
+  require(state_.cell.has_value(), "velocity gradient", "set", "set on a World with a periodic cell (set_periodic_cell first)");
+  state_.cell->set_velocity_gradient(velocity_gradient);
 }
 
 void World::set_contact_model(ContactKind kind, std::shared_ptr<const ContactModel> model) {
@@ -137,7 +160,7 @@ void World::step(std::int64_t n, StepEnd end) {
       threads_ = team_.size();
       plan_.forget_shares();
     }
-    if (BroadPhase::needs_rebuild(state_.rebuild)) {
+    if (BroadPhase::needs_rebuild(state_)) {
       synchronise();  // spread over processes: each makes the same lists from the whole state
       synchronise_history();
       timing_.communication += seconds_since(t0);
@@ -145,7 +168,7 @@ void World::step(std::int64_t n, StepEnd end) {
       rebuild(state_.settings.sort_every > 0 && state_.rebuild.rebuilds % state_.settings.sort_every == 0);
     }
     plan_domains();
-    if (broad_phase_.near_stale()) {
+    if (broad_phase_.near_stale(state_)) {
       broad_phase_.refresh_near(state_, plan_, threads_);
       keep_local_near();
     }
@@ -203,6 +226,13 @@ void World::rebuild(bool resort) {
 }
 
 void World::restore(WorldState state) {
+  if (state.cell) {  // what set_periodic_cell refuses, a state cannot bring in either
+    require(ranks() <= 1, "a restored periodic cell in a World spread over processes", std::to_string(ranks()) + " processes",
+            "one process: the subdomains do not wrap across the cell's faces yet");
+    require(state.walls.empty() && state.clumps.empty(), "a restored periodic cell with walls or clumps",
+            std::to_string(state.walls.size()) + " walls, " + std::to_string(state.clumps.size()) + " clumps",
+            "none: they are not supported in a periodic cell yet");
+  }
   state_ = std::move(state);
   pebble_layout_stale_ = true;
   pair_records_current_ = true;  // a restart file holds the records of its last step

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <type_traits>
 
 #include <dem/base/errors.hpp>
@@ -38,6 +39,9 @@ void World::compute_forces(bool record_pair_forces) {
   plan_.set_owned(owned_range());  // spread over processes: this one's subdomain
   ctx.owned_begin = plan_.owned_begin();
   ctx.owned_end = plan_.owned_end();
+  std::optional<ImageShifts> images;  // the periodic cell's shifts of this step
+  if (state_.cell) images = state_.cell->image_shifts();
+  ctx.images = images ? &*images : nullptr;
 
   ParticleStore& p = state_.particles;
   WorldContacts& contacts = state_.contacts;

@@ -156,6 +156,8 @@ void World::integrate() {
     else
       state_.rebuild.need_rebuild = true;
   }
+  // The periodic cell deforms with the step, as the particles moved (h' = L h).
+  if (state_.cell) state_.cell->advance(dt);
 }
 
 std::int64_t World::pebble_count() const {

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -23,15 +24,16 @@ namespace {
 using ContactVisitor = std::function<void(const ContactView&)>;
 
 /// Each touching contact of a pair set as a ContactView.
-void visit_touching(const PairContacts& c, const ParticleStore& p, const ContactVisitor& visit) {
+void visit_touching(const PairContacts& c, const ParticleStore& p, const ImageShifts* images, const ContactVisitor& visit) {
   // Lists just remade have no forces until the next step computes them: nothing to visit.
   for (std::size_t k = 0; k < c.size() && k < c.normal_force.size() && k < c.force.size(); ++k) {
     if (c.normal_force[k] <= 0.0) continue;
     const auto i = static_cast<std::size_t>(c.first[k]);
     const auto j = static_cast<std::size_t>(c.second[k]);
-    const Vec3 d = branch(p.x.data(), i, j);
+    const Vec3 d = contact_branch(c, k, p.x.data(), images);
     const double dist = d.norm();
     ContactView v{c.kind, i, static_cast<std::int64_t>(j), d / dist, Vec3::Zero(), c.force[k], c.normal_force[k]};
+    v.image_shift = image_shift_of(c, k, images);
     const double overlap = p.radius[i] + p.radius[j] - dist;
     v.point = p.x[i] + (p.radius[i] - 0.5 * overlap) * v.normal;
     visit(v);
@@ -62,7 +64,14 @@ void World::require_pair_records(const char* what) const {
 void World::for_each_contact(const ContactVisitor& visit) const {
   require_whole("for_each_contact()");
   require_pair_records("for_each_contact()");
-  state_.contacts.for_each_set([&](const auto& set) { visit_touching(set, state_.particles, visit); });
+  std::optional<ImageShifts> images;  // a periodic cell's, for the positions now
+  if (state_.cell) images = state_.cell->image_shifts();
+  state_.contacts.for_each_set([&](const auto& set) {
+    if constexpr (std::is_same_v<std::remove_cvref_t<decltype(set)>, PairContacts>)
+      visit_touching(set, state_.particles, images ? &*images : nullptr, visit);
+    else
+      visit_touching(set, state_.particles, visit);
+  });
 }
 
 std::size_t World::contact_count(ContactKind kind) const {

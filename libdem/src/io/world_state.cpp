@@ -75,6 +75,38 @@ void write_wall_contacts(Writer& w, const WallContacts& c) {
 
 using namespace checkpoint;
 
+namespace {
+
+Mat3 read_matrix(Reader& r, const std::string& field) {
+  Mat3 m;
+  for (int i = 0; i < 9; ++i) m.data()[i] = r.number(at(field, static_cast<std::size_t>(i)));
+  return m;
+}
+
+/// The periodic cell of format 3 into `s` (after its contacts), checked.
+void read_periodic_cell(Reader& r, WorldState& s) {
+  const Vec3 origin = r.vec3("periodic cell origin");
+  const Mat3 h = read_matrix(r, "periodic cell matrix");
+  if (!(h.determinant() > 0.0)) refuse("periodic cell matrix determinant", h.determinant(), "> 0 m^3");
+  PeriodicCell cell(h, origin);
+  cell.set_velocity_gradient(read_matrix(r, "periodic cell velocity gradient"));
+  std::array<bool, 3> axes{};
+  for (std::size_t a = 0; a < 3; ++a) axes[a] = r.flag(at("periodic cell axes", a));
+  cell.set_periodic_axes(axes);
+  cell.set_tilt_remap(r.flag("periodic cell tilt re-map"));
+  s.rebuild.cell_at_rebuild = read_matrix(r, "periodic cell matrix at the last rebuild");
+  s.contacts.for_each_pair_set([&](PairContacts& c) {
+    const std::string field = std::string(to_string(c.kind)) + " images";
+    c.image = r.vec<std::uint8_t>(field);
+    if (!s.rebuild.need_rebuild) check_length(c.image.size(), c.size(), field, "one per candidate while need_rebuild = 0");
+    for (std::size_t k = 0; k < c.image.size(); ++k)
+      if (c.image[k] >= image_count) refuse(at(field, k), static_cast<int>(c.image[k]), "an image code 0 to 26");
+  });
+  s.cell = cell;
+}
+
+}  // namespace
+
 void write_world_state(std::ostream& out, const World& world) {
   Writer w{out};
   const WorldState& state = world.state();
@@ -133,6 +165,19 @@ void write_world_state(std::ostream& out, const World& world) {
     w.pod(wall.surface.radius);
   }
   write_wall_contacts(w, contacts.ball_surface);
+  // Since format 3: the periodic cell, if any.
+  w.pod(state.cell.has_value());
+  if (state.cell) {
+    const PeriodicCell& cell = *state.cell;
+    w.vec3(cell.origin());
+    for (int i = 0; i < 9; ++i) w.pod(cell.matrix().data()[i]);
+    for (int i = 0; i < 9; ++i) w.pod(cell.velocity_gradient().data()[i]);
+    for (const bool periodic : cell.periodic_axes()) w.pod(periodic);
+    w.pod(cell.tilt_remap());
+    for (int i = 0; i < 9; ++i) w.pod(record.cell_at_rebuild.data()[i]);
+    w.vec(contacts.ball_ball.image);
+    w.vec(contacts.ball_pebble.image);
+  }
   if (!out) throw std::runtime_error("checkpoint: writing the world state failed");
 }
 
@@ -208,6 +253,7 @@ void read_world_state(std::istream& in, World& world, std::uint32_t format) {
     read_surfaces(r, s.walls);
     c.ball_surface = read_wall_contacts(r, world.contact_model(ContactKind::BallFacet), p, s.walls, true);
   }
+  if (format >= 3 && r.flag("periodic cell")) read_periodic_cell(r, s);
   world.restore(std::move(s));
 }
 

@@ -119,11 +119,11 @@ SphereMeasurement measure(const World& world, const MeasurementSphere& sphere) {
       ++contact_count[b1];
     }
     if (ball_ball && is_inside[b2]) {
-      ball_moment += (c.point - partner_position(p.x.data(), b1, b2)) * c.force.transpose();
+      ball_moment += (c.point - partner_position(p.x.data(), b1, b2, c.image_shift)) * c.force.transpose();
       ++contact_count[b2];
     }
     if (!inside(sphere, c.point)) return;
-    const Vec3 branch_vector = ball_ball ? branch(p.x.data(), b1, b2) : Vec3(c.point - p.x[b1]);
+    const Vec3 branch_vector = ball_ball ? branch(p.x.data(), b1, b2, c.image_shift) : Vec3(c.point - p.x[b1]);
     contact_moment += c.force * branch_vector.transpose();
     if (ball_ball) samples.push_back({c.normal, c.normal_force});
   });

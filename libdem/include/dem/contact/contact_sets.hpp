@@ -36,6 +36,15 @@ struct StateBuffer {
 struct PairContacts {
   ContactKind kind = ContactKind::BallBall;
   std::vector<std::int32_t> first, second;  // storage indices of the two pieces
+  /// In a periodic cell, per candidate: which image of piece 2 piece 1 touches, as an image code
+  /// (boundary/periodic_cell.hpp: the image vector n, components -1, 0, 1, in one byte; the
+  /// branch is x2 + h n - x1). Found by the broad phase with the candidate and fixed until the
+  /// next rebuild, which wraps the positions into the cell and finds every candidate's image
+  /// again, so the contact keeps its history by its particles' ids as anywhere else. Empty
+  /// without a periodic cell: the loops then never read it. A contact with a partner held by
+  /// another process will name it the same way (a ghost is the owner's particle plus h n), so
+  /// one mechanism serves images and ghosts.
+  std::vector<std::uint8_t> image;
   StateBuffer state;
   /// The forces of the last step that recorded them (a World records them on the steps after
   /// which they can be read, World::ContactRecords).

@@ -16,6 +16,7 @@
 #include <dem/core/step_plan.hpp>
 #include <dem/core/world_state.hpp>
 #include <dem/grid/cell_grid.hpp>
+#include <dem/grid/periodic_grid.hpp>
 
 namespace dem {
 
@@ -24,16 +25,23 @@ class BroadPhase {
   /// True when the lists must be remade before the next force computation: the state asks for it,
   /// or a particle or wall has moved so far since the last rebuild that a pair could have come
   /// within reach unseen.
-  static bool needs_rebuild(const RebuildRecord& record);
+  /// In a periodic cell, an image has moved too: by as much as the cell's edges since.
+  static bool needs_rebuild(const WorldState& state);
 
   /// Remakes the candidate lists of `state` (ball-ball, ball-pebble, ball-facet) and their
   /// incidence, carrying the history of each touching contact over through `models`. `resort`:
   /// re-sorts the particles in cell order first (storage indices change; ids do not).
+  ///
+  /// In a periodic cell a cell sheared past its tilt limit is first re-mapped to an equivalent,
+  /// less skewed one (PeriodicCell::remap_tilt), the particles that have left it are put back
+  /// through the opposite face (x - h m, and v - L h m: the image's velocity), and each pair candidate is found with the
+  /// image of its piece 2 that piece 1 reaches (PairContacts::image), so a contact across a face
+  /// keeps its history by ids as any other. InputError for a cell thinner than three search cells.
   void rebuild(WorldState& state, const ContactModelTable& models, int threads, bool resort);
 
   /// True when the near lists must be remade: after a rebuild or a load, or when a particle has
-  /// moved half the near skin since they were made.
-  bool near_stale() const;
+  /// moved half the near skin since they were made (in a periodic cell, with the images' travel).
+  bool near_stale(const WorldState& state) const;
   /// Remakes the near lists of the pair contacts in `state` (PairPlan::near of `plan`).
   void refresh_near(const WorldState& state, StepPlan& plan, int threads);
   /// The near lists no longer match the contact lists (a load replaced them).
@@ -47,7 +55,14 @@ class BroadPhase {
   std::int64_t near_refresh_count() const { return near_refreshes_; }
 
  private:
+  /// The candidates of a periodic cell (rebuild's periodic part): wraps the particles into the
+  /// cell, re-sorts them if `resort`, and lists the pairs with their images.
+  void find_periodic_candidates(WorldState& state, int threads, bool resort, std::vector<std::int32_t>& first,
+                                std::vector<std::int32_t>& second, std::vector<std::uint8_t>& image);
+
   CellGrid grid_;
+  PeriodicGrid periodic_grid_;
+  Mat3 cell_at_near_ = Mat3::Zero();  // m, a periodic cell's matrix when the near lists were made
   std::vector<Vec3> x_at_near_;
   double max_near_travel_sq_ = 0.0;  // m^2
   double near_skin_ = 0.0;           // m

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include <dem/boundary/periodic_cell.hpp>
 #include <dem/contact/contact_law.hpp>
 #include <dem/contact/contact_sets.hpp>
 #include <dem/contact/kinematics.hpp>
@@ -63,6 +64,10 @@ struct KernelContext {
   /// [owned_begin, owned_end) (StepPlan::owned_begin); the others keep their records.
   std::int64_t owned_begin = 0;
   std::int64_t owned_end = std::numeric_limits<std::int64_t>::max();
+  /// In a periodic cell, each image code's position and velocity shift this step
+  /// (PeriodicCell::image_shifts): the pair loops shift each contact's piece 2 by its
+  /// PairContacts::image. Null without a cell: the loops compiled without shifts run.
+  const ImageShifts* images = nullptr;
 };
 
 /// Worst contact of a step, for the instability check.

@@ -66,7 +66,8 @@ inline void add_deferred(const KernelContext& ctx, const std::vector<DeferredSum
 
 /// The pair loop over the near candidates near[begin, end) (PairPlan::near): a chunk of one
 /// thread's share, its sums added or left in `later` as `Mode` says.
-template <ContactLaw Law, Sums Mode>
+/// `periodic`: piece 2 is the image PairContacts::image names (KernelContext::images).
+template <ContactLaw Law, Sums Mode, bool periodic>
 void pair_range(const typename Law::Params& params, PairContacts& c, const std::vector<std::int32_t>& near,
                 const KernelContext& ctx, std::int64_t begin, std::int64_t end, std::vector<DeferredSum>* later,
                 OverlapMonitor& local) {
@@ -76,7 +77,14 @@ void pair_range(const typename Law::Params& params, PairContacts& c, const std::
     const std::int64_t k = near[static_cast<std::size_t>(a)];
     const auto i = static_cast<std::size_t>(c.first[k]);
     const auto j = static_cast<std::size_t>(c.second[k]);
-    const Vec3 d = branch(p.x.data(), i, j);
+    Vec3 d, v_second = p.v[j];  // piece 2 (its image in a periodic cell): branch, velocity
+    if constexpr (periodic) {
+      const ImageCode image = c.image[static_cast<std::size_t>(k)];
+      d = branch(p.x.data(), i, j, ctx.images->position[image]);
+      v_second += ctx.images->velocity[image];
+    } else {
+      d = branch(p.x.data(), i, j);
+    }
     const double reach = p.radius[i] + p.radius[j];
     const double dist_sq = d.squaredNorm();
     if (dist_sq >= reach * reach) {
@@ -92,7 +100,7 @@ void pair_range(const typename Law::Params& params, PairContacts& c, const std::
     kin.overlap = reach - dist;
     const Vec3 arm_first = (p.radius[i] - 0.5 * kin.overlap) * kin.normal;  // x_c - x_i
     const Vec3 arm_second = arm_first - d;                                   // x_c - x_j
-    kin.relative_velocity = (p.v[j] + p.w[j].cross(arm_second)) - (p.v[i] + p.w[i].cross(arm_first));
+    kin.relative_velocity = (v_second + p.w[j].cross(arm_second)) - (p.v[i] + p.w[i].cross(arm_first));
     kin.relative_angular_velocity = p.w[j] - p.w[i];
     kin.radius_1 = p.radius[i];
     kin.radius_2 = p.radius[j];
@@ -200,7 +208,7 @@ inline bool prefetch_second_pieces(std::size_t particles, std::size_t candidates
 /// force records (KernelContext::record_pair_forces); `prefetch_second`: prefetch_second_pieces.
 /// Both are compiled in rather than tested per candidate: the scan is short of registers, and a
 /// flag held in one pushes a pointer out to the stack (about 2 % of the 14k loop on one thread).
-template <LaneContactLaw Law, Sums Mode, bool record, bool prefetch_second>
+template <LaneContactLaw Law, Sums Mode, bool record, bool prefetch_second, bool periodic>
 void pair_range_lanes_with(const typename Law::Params& params, PairContacts& c,
                            const std::vector<std::int32_t>& near_list, const KernelContext& shared_ctx,
                            std::int64_t begin, std::int64_t end, std::vector<DeferredSum>* later, OverlapMonitor& local) {
@@ -219,6 +227,7 @@ void pair_range_lanes_with(const typename Law::Params& params, PairContacts& c,
   Vec3* force = c.force.data();
   double* normal_force = c.normal_force.data();
   std::uint8_t* touching = c.touching.data();
+  const ImageCode* image = c.image.data();  // periodic only
   PairBlock<State> b;
   static_assert(sizeof(Vec3) == 3 * sizeof(double), "the block takes a Vec3 as three doubles");
   const Vec3* v = p.v.data();
@@ -234,7 +243,9 @@ void pair_range_lanes_with(const typename Law::Params& params, PairContacts& c,
     for (; a < end && count < pair_block; ++a) {
       const std::int64_t k = near[a];
       const std::int32_t i = first[k], j = second[k];
-      const Lane3 d = branch_lanes(x, i, j);
+      Lane3 d;
+      if constexpr (periodic) d = branch_lanes(x, i, j, ctx.images->position[image[k]]);
+      else d = branch_lanes(x, i, j);
       const double reach = radius[i] + radius[j];
       const bool separated = squared_norm(d) >= reach * reach;
       b.contact[count] = k;
@@ -266,7 +277,12 @@ void pair_range_lanes_with(const typename Law::Params& params, PairContacts& c,
       // about three instructions a double (half of the block's instructions).
       const auto i = static_cast<std::size_t>(b.first[m]), j = static_cast<std::size_t>(b.second[m]);
       std::memcpy(&b.v1[3 * m], v[i].data(), sizeof(Vec3));
-      std::memcpy(&b.v2[3 * m], v[j].data(), sizeof(Vec3));
+      if constexpr (periodic) {  // the image's velocity: v2 + L h n
+        const Vec3 v_image = v[j] + ctx.images->velocity[image[b.contact[m]]];
+        std::memcpy(&b.v2[3 * m], v_image.data(), sizeof(Vec3));
+      } else {
+        std::memcpy(&b.v2[3 * m], v[j].data(), sizeof(Vec3));
+      }
       std::memcpy(&b.w1[3 * m], w[i].data(), sizeof(Vec3));
       std::memcpy(&b.w2[3 * m], w[j].data(), sizeof(Vec3));
       b.inv_mass_1[m] = inv_mass[i], b.inv_mass_2[m] = inv_mass[j];
@@ -302,12 +318,20 @@ void pair_range_lanes(const typename Law::Params& params, PairContacts& c, const
                       const KernelContext& ctx, std::int64_t begin, std::int64_t end, std::vector<DeferredSum>* later,
                       OverlapMonitor& local) {
   const bool prefetch = prefetch_second_pieces(ctx.particles->size(), c.size(), sizeof(typename Law::State));
-  if (ctx.record_pair_forces) {
-    if (prefetch) return pair_range_lanes_with<Law, Mode, true, true>(params, c, near, ctx, begin, end, later, local);
-    return pair_range_lanes_with<Law, Mode, true, false>(params, c, near, ctx, begin, end, later, local);
+  if (ctx.images != nullptr) {  // a periodic cell
+    if (ctx.record_pair_forces) {
+      if (prefetch) return pair_range_lanes_with<Law, Mode, true, true, true>(params, c, near, ctx, begin, end, later, local);
+      return pair_range_lanes_with<Law, Mode, true, false, true>(params, c, near, ctx, begin, end, later, local);
+    }
+    if (prefetch) return pair_range_lanes_with<Law, Mode, false, true, true>(params, c, near, ctx, begin, end, later, local);
+    return pair_range_lanes_with<Law, Mode, false, false, true>(params, c, near, ctx, begin, end, later, local);
   }
-  if (prefetch) return pair_range_lanes_with<Law, Mode, false, true>(params, c, near, ctx, begin, end, later, local);
-  pair_range_lanes_with<Law, Mode, false, false>(params, c, near, ctx, begin, end, later, local);
+  if (ctx.record_pair_forces) {
+    if (prefetch) return pair_range_lanes_with<Law, Mode, true, true, false>(params, c, near, ctx, begin, end, later, local);
+    return pair_range_lanes_with<Law, Mode, true, false, false>(params, c, near, ctx, begin, end, later, local);
+  }
+  if (prefetch) return pair_range_lanes_with<Law, Mode, false, true, false>(params, c, near, ctx, begin, end, later, local);
+  pair_range_lanes_with<Law, Mode, false, false, false>(params, c, near, ctx, begin, end, later, local);
 }
 
 /// One mode's loop for one thread's share: blocks for a lane law where they pay (lanes_worthwhile),
@@ -319,7 +343,8 @@ void pair_share(const typename Law::Params& params, PairContacts& c, const std::
   if constexpr (LaneContactLaw<Law>) {
     if (lanes_worthwhile()) return pair_range_lanes<Law, Mode>(params, c, near, ctx, begin, end, later, local);
   }
-  pair_range<Law, Mode>(params, c, near, ctx, begin, end, later, local);
+  if (ctx.images != nullptr) return pair_range<Law, Mode, true>(params, c, near, ctx, begin, end, later, local);
+  pair_range<Law, Mode, false>(params, c, near, ctx, begin, end, later, local);
 }
 
 /// Near candidates per chunk that a thread takes from another's share: a few microseconds of work

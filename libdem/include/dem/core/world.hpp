@@ -71,6 +71,9 @@ struct ContactView {
   Vec3 point;              // m, contact point
   Vec3 force;              // N, on piece 2
   double normal_force;     // N, elastic, compression positive
+  /// m, piece 2 is seen at its position plus this: its periodic image (pair contacts across a
+  /// periodic cell's face); zero otherwise. The branch vector is x2 + image_shift - x1.
+  Vec3 image_shift = Vec3::Zero();
 };
 
 class World {
@@ -88,6 +91,26 @@ class World {
   /// as the run that wrote it. InputError for another law or for a kind without a law.
   void retune_contact_model(ContactKind kind, std::shared_ptr<const ContactModel> model);
   const ContactModel* contact_model(ContactKind kind) const { return models_[static_cast<std::size_t>(kind)].get(); }
+
+  // --- a periodic cell (boundary/periodic_cell.hpp) --------------------------------------------
+  /// Puts the particles in a periodic cell: space is tiled with it, particles that leave it come
+  /// back through the opposite face, and contacts across its faces are those of the same pair
+  /// inside it. The cell deforms with its velocity gradient L (h' = L h, every step); particles'
+  /// velocities are absolute (the image across a face moves at v + L h n). Replaces a cell set
+  /// before; the lists are remade at the next step, which wraps the particles into the cell.
+  ///
+  /// Refused (InputError, naming what and why), for now: a cell not periodic on all three axes;
+  /// walls (a wall on a periodic axis cuts the tiling; walls across a non-periodic axis come
+  /// with partly periodic cells); clumps (their pebbles would wrap one by one); a World spread
+  /// over more than one process (its slabs do not wrap yet). A cell must be at least three times
+  /// the largest diameter plus the skin thick (checked at each rebuild). Local damping is
+  /// measured against the fixed frame unless a DampingFrame is set (not yet the cell's flow).
+  void set_periodic_cell(const PeriodicCell& cell);
+  /// The cell, or null in open space.
+  const PeriodicCell* periodic_cell() const { return state_.cell ? &*state_.cell : nullptr; }
+  /// The cell's velocity gradient L (1/s), from the next step on (a controller may set it every
+  /// step). InputError without a cell.
+  void set_velocity_gradient(const Mat3& velocity_gradient);
 
   // --- running ------------------------------------------------------------------------------
   /// What every process holds when step() returns, in a World spread over processes.

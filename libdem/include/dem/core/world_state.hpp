@@ -7,9 +7,11 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <dem/boundary/clump.hpp>
+#include <dem/boundary/periodic_cell.hpp>
 #include <dem/boundary/wall.hpp>
 #include <dem/contact/contact_sets.hpp>
 #include <dem/core/particles.hpp>
@@ -102,6 +104,7 @@ struct RebuildRecord {
   double max_travel_sq = 0.0;              // m^2, largest squared particle displacement since
   double max_wall_travel = 0.0;            // m, largest wall displacement since
   double skin = 0.0;                       // m, the skin of the current lists
+  Mat3 cell_at_rebuild = Mat3::Zero();     // m, a periodic cell's matrix at the last rebuild
 };
 
 struct WorldState {
@@ -112,6 +115,8 @@ struct WorldState {
   std::vector<Wall> walls;
   WorldContacts contacts;
   RebuildRecord rebuild;
+  /// The periodic cell the particles live in (World::set_periodic_cell); none: open space.
+  std::optional<PeriodicCell> cell;
 };
 
 }  // namespace dem

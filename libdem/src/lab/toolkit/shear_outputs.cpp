@@ -1,6 +1,7 @@
 #include <dem/lab/toolkit/shear_outputs.hpp>
 
 #include <cstdio>
+#include <optional>
 
 #include <dem/core/pair_geometry.hpp>
 #include <dem/lab/toolkit/fabric_log.hpp>
@@ -24,10 +25,12 @@ std::string label_for(double strain) {
 std::size_t contacts_within_gap(const World& w, ContactKind kind, double gap) {
   const ParticleStore& p = w.particles();
   const PairContacts& pairs = w.pair_contacts(kind);
+  std::optional<ImageShifts> images;  // a periodic cell's: pairs across its faces
+  if (w.periodic_cell()) images = w.periodic_cell()->image_shifts();
   std::size_t n = 0;
   for (std::size_t k = 0; k < pairs.size(); ++k) {
     const auto i = static_cast<std::size_t>(pairs.first[k]), j = static_cast<std::size_t>(pairs.second[k]);
-    if (branch(p.x.data(), i, j).norm() - p.radius[i] - p.radius[j] < gap) ++n;
+    if (contact_branch(pairs, k, p.x.data(), images ? &*images : nullptr).norm() - p.radius[i] - p.radius[j] < gap) ++n;
   }
   return n;
 }
