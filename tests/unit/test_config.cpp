@@ -243,3 +243,24 @@ TEST_CASE("config: deep, large and repeated-key files are refused with a message
                               Contains("at most 1048576 bytes"));
   CHECK(config.integer("run.steps") == 42);  // no refused file changed anything
 }
+
+TEST_CASE("config: a refused value is quoted as a short, escaped excerpt", "[config]") {
+  dem::io::Schema schema;
+  schema.add({.key = "specimen.diameter", .type = ValueType::Real, .default_value = "0.07", .min = 0.0});
+  dem::io::Config config(schema);
+  const std::string huge(100000, '7');
+  try {
+    config.set("specimen.diameter", huge + "x");
+    FAIL("a 100 KB value was accepted");
+  } catch (const dem::InputError& e) {
+    const std::string message = e.what();
+    CHECK(message.size() < 600);
+    CHECK_THAT(message, Contains("specimen.diameter") && Contains("... (100001 bytes)"));
+  }
+  std::string binary = "\xef\xbb\xbf";
+  binary += "0.5";
+  binary += std::string(1, '\0');
+  binary += "\x1b[31m";
+  CHECK_THROWS_WITH(config.set("specimen.diameter", binary), Contains("'\\xef\\xbb\\xbf0.5\\x00\\x1b[31m'"));
+  CHECK_THROWS_WITH(config.set(std::string("spec\x07imen.x"), "1"), Contains("spec\\x07imen.x"));
+}

@@ -112,7 +112,7 @@ bool in_range(const KeySpec& spec, double value) {
 Value parse_value(const KeySpec& spec, const std::string& raw) {
   const std::string text = trim(raw);
   const auto fail = [&]() -> Value {
-    throw InputError("config key '" + spec.key + "' = '" + text + "': must be " +
+    throw InputError("config key '" + spec.key + "' = '" + quoted_excerpt(text) + "': must be " +
                      allowed_text(spec));
   };
   switch (spec.type) {
@@ -194,7 +194,7 @@ std::vector<std::vector<std::size_t>> by_section(const std::vector<KeySpec>& key
   // Suggest the nearest keys by edit distance, and the same name filed under another section.
   std::size_t best = key.size() / 3 + 2;  // farther than this is not a typo
   for (const auto& spec : schema.keys()) best = std::min(best, edit_distance(key, spec.key));
-  std::string message = "unknown config key '" + key + "'";
+  std::string message = "unknown config key '" + quoted_excerpt(key) + "'";
   std::string near;
   for (const auto& spec : schema.keys())
     if (edit_distance(key, spec.key) == best || name_of(spec.key) == name_of(key))
@@ -313,7 +313,7 @@ Config::Config(const Schema& schema) : schema_(schema) {
 void Config::set(const std::string& assignment) {
   const auto equals = assignment.find('=');
   if (equals == std::string::npos)
-    throw InputError("setting '" + assignment + "': must have the form section.key=value");
+    throw InputError("setting '" + quoted_excerpt(assignment) + "': must have the form section.key=value");
   set(trim(assignment.substr(0, equals)), assignment.substr(equals + 1));
 }
 
