@@ -145,8 +145,9 @@ void ElementTest::record_row() {
   history_.record();
   const double strain = test_strain();
   while (next_row_strain_ <= strain + 1e-12) next_row_strain_ += config_.element.every_strain;
+  if (stage_ != Stage::Loading) return;  // the peak of the loading path (a gas has none worth quoting)
   const double ratio = history_.last(simple_shear(config_.element.test) ? "shear_stress_ratio" : "stress_ratio");
-  if (std::abs(ratio) > std::abs(peak_ratio_)) peak_ratio_ = ratio, peak_strain_ = strain;
+  if (ratio > peak_ratio_) peak_ratio_ = ratio, peak_strain_ = strain;
 }
 
 void ElementTest::start_loading() {
@@ -232,8 +233,9 @@ void ElementTest::add_columns() {
   h.add("mean_stress", p);
   h.add("deviator_stress", q);
   h.add("stress_ratio", [p, q] { return p() > 0.0 ? q() / p() : 0.0; });
-  h.add("shear_stress", [row] { return row->sigma(0, 2); });
-  h.add("shear_stress_ratio", [row] { return row->sigma(2, 2) > 0.0 ? row->sigma(0, 2) / row->sigma(2, 2) : 0.0; });
+  // tau = -sigma_xz (compression positive): the shear stress that resists a positive shear strain.
+  h.add("shear_stress", [row] { return -row->sigma(0, 2); });
+  h.add("shear_stress_ratio", [row] { return row->sigma(2, 2) > 0.0 ? -row->sigma(0, 2) / row->sigma(2, 2) : 0.0; });
   h.add("void_ratio", [row] { return row->packing.void_ratio; });
   h.add("porosity", [row] { return row->packing.porosity; });
   h.add("coordination", [row] { return row->packing.mechanical_coordination_number; });

@@ -80,7 +80,9 @@ bool isotropic_state_reached(const World& world, double stress, double tolerance
 PeriodicSpecimen::PeriodicSpecimen(Run& run, PeriodicSpecimenSettings settings) : run_(run), settings_(std::move(settings)) {
   World& w = run_.world();
   w.set_periodic_cell(PeriodicCell::box(Vec3::Zero(), Vec3::Constant(1.0)));  // until placed or loaded
-  servo_ = add_cell_servo(w, CellServoSettings::isotropic(settings_.stress, settings_.max_rate));
+  CellServoSettings isotropic = CellServoSettings::isotropic(settings_.stress, settings_.max_rate);
+  for (std::size_t a = 3; a < 6; ++a) isotropic.stress_controlled[a] = true;  // shear stresses held at 0
+  servo_ = add_cell_servo(w, isotropic);
   w.set_contact_model(ContactKind::BallBall, settings_.ball_ball.model_with_friction(settings_.compaction_friction, 0.0, "ball_ball"));
   run_.keep("specimen_stage", [this] { return static_cast<double>(stage_); }, [this](double v) {
     require(v >= 0 && v <= 2 && v == std::floor(v), "restart file: specimen_stage", v, "0, 1 or 2");

@@ -51,7 +51,7 @@ struct ElementConfig {
   double strain_rate = 0.0;         // 1/s, axial or shear; 0: from inertial_number
   double inertial_number = 1e-3;    // -, sets the strain rate unless strain_rate > 0
   double every_strain = 0.005;      // -, of the test's strain between history rows
-  long balls = 300;                 // -, in the cell
+  long balls = 4000;                // -, in the cell
   std::uint64_t seed = 1;           // -, of the diameters and positions
   double density = 2650.0;          // kg/m^3
   double initial_solid_fraction = 0.3;  // -, of the gas the balls are placed in

@@ -1,9 +1,12 @@
 // A specimen made in a periodic cell (boundary/periodic_cell.hpp), as a resumable part of a run
 // (lab/toolkit/run.hpp): balls of a grading placed at random without overlap in a large cubic
 // cell (a gas, seeded and deterministic), then compressed isotropically by the cell servo
-// (control/cell_servo.hpp: the three normal stresses held at the target, the shear rates zero)
-// until the mean stress is within a tolerance of the target, each normal stress too, the shear
-// stresses small and the unbalanced force ratio low.
+// (control/cell_servo.hpp: the three normal stresses held at the target, the three shear stresses
+// at zero) until every normal stress is within a tolerance of the target, the shear stresses
+// within it of zero and the unbalanced force ratio low. The shear stresses are held rather than
+// the shear rates kept zero: a packing of 3000 balls compressed at zero shear rates locked in
+// shear stresses of 1 % of p, which no number of steps relaxed; held at zero, the cell shears a
+// little (a few 1e-4) and the stress is isotropic.
 //
 // The friction schedule: the ball-ball law with `compaction_friction` (and no rolling friction)
 // while the cell compresses; 0 makes the densest specimen, the material's friction a loose one.
