@@ -33,7 +33,7 @@ const io::BindingTable<ElementConfig>& element_keys() {
        "confining_stress), triaxial-undrained (zz shortened at constant volume), simple-shear (L_xz, zz holds confining_stress), "
        "simple-shear-undrained (L_xz at constant volume)",
        {}, {}, false, compressed},
-      {"confining_stress", &S::confining_stress, "Pa", "isotropic stress the specimen is compressed to, then held where the path holds a stress", 1.0, 1e9, true, compressed},
+      {"confining_stress", &S::confining_stress, "Pa", "isotropic stress the specimen is compressed to, then held where the path holds a stress", 0.0, 1e9, true, compressed},
       {"target_strain", &S::target_strain, "-", "axial (triaxial) or shear (simple shear, at most 0.5) strain that ends the test", 0.0, 0.5, true, FixedAfter::never()},
       {"strain_rate", &S::strain_rate, "1/s", "axial or shear strain rate; 0: from inertial_number", 0.0, 1e4, false, loaded},
       {"inertial_number", &S::inertial_number, "-", "I = rate d_mean sqrt(density / confining_stress), sets the rate unless strain_rate > 0", 0.0, 0.1, true, loaded},

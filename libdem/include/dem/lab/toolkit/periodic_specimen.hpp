@@ -6,7 +6,7 @@
 // within it of zero and the unbalanced force ratio low. The shear stresses are held rather than
 // the shear rates kept zero: a packing of 3000 balls compressed at zero shear rates locked in
 // shear stresses of 1 % of p, which no number of steps relaxed; held at zero, the cell shears a
-// little (a few 1e-4) and the stress is isotropic.
+// little and the stress is isotropic.
 //
 // The friction schedule: the ball-ball law with `compaction_friction` (and no rolling friction)
 // while the cell compresses; 0 makes the densest specimen, the material's friction a loose one.
