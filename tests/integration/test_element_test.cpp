@@ -140,6 +140,25 @@ TEST_CASE("element test: a drained triaxial path holds sigma_3 while the axial s
   ElementTest allowed(element_test_config(longer), fresh_dir("triaxial_longer"), log);
   allowed.record_configuration(longer);
   CHECK_NOTHROW(allowed.load_restart(whole / "consolidated.restart"));
+
+  // The compressed specimen loaded along another path: the same first row, then constant volume.
+  io::Config undrained = keys;
+  undrained.set("element.test", "triaxial-undrained");
+  const fs::path second = fresh_dir("triaxial_second_path");
+  run_to_end(undrained, second, whole / "consolidated.restart");
+  const io::CsvData second_rows = io::read_csv(second / "history.csv");
+  REQUIRE(second_rows.rows.size() >= 10);
+  CHECK(second_rows.rows.front() == rows.rows.front());
+  CHECK(std::abs(second_rows.rows.back()[second_rows.column("volumetric_strain")]) <= 1e-9);
+  CHECK(second_rows.rows.back()[second_rows.column("axial_strain")] >= 0.01);
+  // Mid-compression the isotropic test's rows are under way: its path is refused there.
+  io::Config isotropic = keys;
+  isotropic.set("element.test", "isotropic");
+  const fs::path killed = fresh_dir("triaxial_killed_compressing");
+  CHECK_THROWS_WITH(run_to_end(keys, killed, {}, loading_start / 2 + 3), Contains("stopped"));
+  ElementTest mid(element_test_config(isotropic), fresh_dir("triaxial_to_isotropic"), log);
+  mid.record_configuration(isotropic);
+  CHECK_THROWS_WITH(mid.load_restart(killed / "restart.restart"), Contains("element.test") && Contains("isotropic here, triaxial-drained in the file"));
 }
 
 TEST_CASE("element test: the constant-volume paths keep the cell's volume to 1e-9", "[element-test][periodic]") {

@@ -31,8 +31,8 @@ const io::BindingTable<ElementConfig>& element_keys() {
       {"test", io::enum_choice({"isotropic", "triaxial-drained", "triaxial-undrained", "simple-shear", "simple-shear-undrained"}, &S::test), "-",
        "the loading path: isotropic (the compression to confining_stress is the test), triaxial-drained (zz shortened, xx yy hold "
        "confining_stress), triaxial-undrained (zz shortened at constant volume), simple-shear (L_xz, zz holds confining_stress), "
-       "simple-shear-undrained (L_xz at constant volume)",
-       {}, {}, false, compressed},
+       "simple-shear-undrained (L_xz at constant volume); a compressed specimen (consolidated.restart) may be loaded along another",
+       {}, {}, false, loaded},
       {"confining_stress", &S::confining_stress, "Pa", "isotropic stress the specimen is compressed to, then held where the path holds a stress", 0.0, 1e9, true, compressed},
       {"target_strain", &S::target_strain, "-", "axial (triaxial) or shear (simple shear, at most 0.5) strain that ends the test", 0.0, 0.5, true, FixedAfter::never()},
       {"strain_rate", &S::strain_rate, "1/s", "axial or shear strain rate; 0: from inertial_number", 0.0, 1e4, false, loaded},
