@@ -17,6 +17,7 @@
 #include <dem/lab/protocols/calibration.hpp>
 #include <dem/lab/protocols/cyclic_shear.hpp>
 #include <dem/lab/protocols/simple_shear.hpp>
+#include <dem/lab/protocols/element_test.hpp>
 #include <dem/lab/protocols/triaxial.hpp>
 
 #include "support/json.hpp"
@@ -72,7 +73,7 @@ using Record = std::vector<std::pair<std::string, std::string>>;
 }  // namespace
 
 TEST_CASE("resume rules: every configuration key has a rule", "[resume]") {
-  for (const io::Schema& schema : {simple_shear_schema(), cyclic_shear_schema(), calibration_schema()})
+  for (const io::Schema& schema : {simple_shear_schema(), cyclic_shear_schema(), calibration_schema(), triaxial_schema(), element_test_schema()})
     for (const io::KeySpec& spec : schema.keys()) {
       INFO(spec.key);
       CHECK_NOTHROW(resume_rule(schema, spec.key));

@@ -1,0 +1,272 @@
+// Element tests in a periodic cell, as their method reads: the specimen made in the cell (a gas
+// compressed by the cell servo to the confining stress), then the material's law and the loading
+// path by the cell's velocity gradient, a history row every element.every_strain. Each stage goes
+// on where a loaded restart file left it.
+#include <dem/lab/protocols/element_test.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <ostream>
+#include <sstream>
+
+#include <dem/boundary/periodic_cell.hpp>
+#include <dem/core/errors.hpp>
+#include <dem/lab/toolkit/resume_rules.hpp>
+#include <dem/lab/toolkit/simple_shear_parts.hpp>
+#include <dem/measure/cell_state.hpp>
+#include <dem/measure/cell_stress.hpp>
+
+#include "../../io/json_file.hpp"
+
+namespace dem::lab {
+
+namespace {
+
+constexpr std::int64_t loading_chunk_steps = 10;  // steps between tests of the row and end strains
+
+PeriodicSpecimenSettings specimen_settings(const ElementTestConfig& c) {
+  const ElementConfig& e = c.element;
+  return {.grading = c.grading, .ball_ball = c.ball_ball, .density = e.density, .balls = e.balls, .seed = e.seed,
+          .initial_solid_fraction = e.initial_solid_fraction, .stress = e.confining_stress, .compaction_friction = e.compaction_friction,
+          .tolerance = e.tolerance, .equilibrium_ratio = e.equilibrium_ratio, .max_rate = e.servo_max_rate,
+          .max_steps = e.max_compaction_steps, .section = "element"};
+}
+
+bool simple_shear(ElementTestKind kind) { return kind == ElementTestKind::SimpleShear || kind == ElementTestKind::SimpleShearUndrained; }
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+std::string to_string(ElementTestKind kind) {
+  switch (kind) {
+    case ElementTestKind::Isotropic: return "isotropic";
+    case ElementTestKind::TriaxialDrained: return "triaxial-drained";
+    case ElementTestKind::TriaxialUndrained: return "triaxial-undrained";
+    case ElementTestKind::SimpleShear: return "simple-shear";
+    case ElementTestKind::SimpleShearUndrained: return "simple-shear-undrained";
+  }
+  return "?";
+}
+
+std::vector<std::string> ElementTest::run_files() {
+  return {"history.csv", "summary.json", "restart.restart", "consolidated.restart", "final.restart"};
+}
+
+ElementTest::ElementTest(ElementTestConfig config, std::filesystem::path out_dir, std::ostream& log)
+    : config_(std::move(config)),
+      run_(std::make_unique<World>(world_settings(config_.engine)), std::move(out_dir), {run_files(), {"history.csv"}}, log),
+      history_(run_.folder() / "history.csv"),
+      specimen_(run_, specimen_settings(config_)) {
+  run_.set_restart_every(config_.output.restart_every_steps);
+  run_.set_progress_every(config_.output.progress_seconds);
+  add_columns();
+  run_.keep("stage", [this] { return static_cast<double>(stage_); }, [this](double v) {
+    require(v >= 0 && v <= 2 && v == std::floor(v), "restart file: stage", v, "0, 1 or 2");
+    stage_ = static_cast<Stage>(static_cast<int>(v));
+  });
+  for (std::size_t k = 0; k < reference_.size(); ++k) run_.keep("reference_cell_" + std::to_string(k), reference_[k]);
+  run_.keep("next_row_strain", next_row_strain_);
+  run_.keep("peak_ratio", peak_ratio_);
+  run_.keep("peak_strain", peak_strain_);
+  run_.keep("history_rows", [this] { return static_cast<double>(history_.rows()); },
+            [this](double rows) { history_.resume(run_.loaded_folder() / "history.csv", static_cast<std::size_t>(rows)); });
+}
+
+double ElementTest::strain_rate() const {
+  const ElementConfig& e = config_.element;
+  if (e.strain_rate > 0.0) return e.strain_rate;
+  // I = rate d sqrt(rho / p): the mean diameter of the grading, the confining stress.
+  const double diameter = 0.5 * (config_.grading.smallest() + config_.grading.largest());
+  return e.inertial_number / diameter * std::sqrt(e.confining_stress / e.density);
+}
+
+Mat3 ElementTest::reference() const {
+  Mat3 h;
+  for (int k = 0; k < 9; ++k) h(k / 3, k % 3) = reference_[static_cast<std::size_t>(k)];
+  return h;
+}
+
+double ElementTest::test_strain() const {
+  const Mat3 h = run_.world().periodic_cell()->matrix(), h0 = reference();
+  if (config_.element.test == ElementTestKind::Isotropic) return 1.0 - h.determinant() / h0.determinant();
+  if (simple_shear(config_.element.test)) return measure::cell_strain(h0, h).deformation_gradient(0, 2);
+  return 1.0 - h(2, 2) / h0(2, 2);
+}
+
+// The path of element.test on the servo: rates where prescribed, stresses where held.
+void ElementTest::set_path() {
+  CellServo& servo = specimen_.servo();
+  const double rate = strain_rate(), stress = config_.element.confining_stress;
+  for (CellComponent shear : {CellComponent::yz, CellComponent::xz, CellComponent::xy}) servo.set_rate(shear, 0.0);
+  switch (config_.element.test) {
+    case ElementTestKind::Isotropic: break;
+    case ElementTestKind::TriaxialDrained:
+      servo.set_stress(CellComponent::xx, stress);
+      servo.set_stress(CellComponent::yy, stress);
+      servo.set_rate(CellComponent::zz, -rate);
+      break;
+    case ElementTestKind::TriaxialUndrained:
+      servo.set_rate(CellComponent::zz, -rate);
+      servo.set_rate(CellComponent::xx, 0.5 * rate);
+      servo.hold_volume(CellComponent::yy);
+      break;
+    case ElementTestKind::SimpleShear:
+    case ElementTestKind::SimpleShearUndrained:
+      servo.set_rate(CellComponent::xx, 0.0);
+      servo.set_rate(CellComponent::yy, 0.0);
+      if (config_.element.test == ElementTestKind::SimpleShear) servo.set_stress(CellComponent::zz, stress);
+      else servo.set_rate(CellComponent::zz, 0.0);
+      servo.set_rate(CellComponent::xz, rate);
+      break;
+  }
+}
+
+void ElementTest::load_restart(const std::filesystem::path& file) {
+  const ProtocolRecord& record = run_.load(file);
+  const RunProgress progress = stage_ == Stage::Done      ? RunProgress::Done
+                               : stage_ == Stage::Loading ? RunProgress::Shearing
+                               : specimen_.made()         ? RunProgress::Consolidated
+                               : specimen_.placed()       ? RunProgress::Consolidating
+                                                          : RunProgress::Generating;
+  if (!record.configuration.empty() && !run_.configuration().empty())
+    for (const ResumeChange& c : check_resume(run_.schema(), record.configuration, run_.configuration(), progress, false, "restart file " + file.string())) {
+      // Only the isotropic test records rows while compressing: mid-compression it cannot change.
+      require(!(c.key == "element.test" && progress == RunProgress::Consolidating && (c.file_value == "isotropic" || c.new_value == "isotropic")),
+              "element.test", c.new_value + " here, " + c.file_value + " in the file", "the file's while the compression runs (its rows are the isotropic test's)");
+      run_.note_change(c.key, c.file_value, c.new_value);
+    }
+  if (stage_ >= Stage::Loading) {
+    specimen_.use_material_law(true);  // the contact lists and their history as the file has them
+    set_path();
+  }
+  run_.log() << "resumed from " << file.string() << " at step " << run_.world().step_count() << " (" << to_string(progress) << ")\n";
+}
+
+void ElementTest::record_row() {
+  history_.record();
+  const double strain = test_strain();
+  while (next_row_strain_ <= strain + 1e-12) next_row_strain_ += config_.element.every_strain;
+  if (stage_ != Stage::Loading) return;  // the peak of the loading path (a gas has none worth quoting)
+  const double ratio = history_.last(simple_shear(config_.element.test) ? "shear_stress_ratio" : "stress_ratio");
+  if (ratio > peak_ratio_) peak_ratio_ = ratio, peak_strain_ = strain;
+}
+
+void ElementTest::start_loading() {
+  const Mat3 h = run_.world().periodic_cell()->matrix();
+  for (int k = 0; k < 9; ++k) reference_[static_cast<std::size_t>(k)] = h(k / 3, k % 3);
+  next_row_strain_ = 0.0;
+  peak_ratio_ = peak_strain_ = 0.0;
+  record_row();  // the test's strain 0
+  run_.save(run_.folder() / "consolidated.restart");
+  specimen_.use_material_law(true);
+  set_path();
+  stage_ = Stage::Loading;
+}
+
+void ElementTest::run() {
+  run_.claim_if_needed();
+  const auto t0 = std::chrono::steady_clock::now();
+  World& w = run_.world();
+  const bool isotropic = config_.element.test == ElementTestKind::Isotropic;
+  if (stage_ == Stage::Specimen) {
+    if (!specimen_.placed()) {
+      specimen_.place();
+      const Mat3 h = w.periodic_cell()->matrix();
+      for (int k = 0; k < 9; ++k) reference_[static_cast<std::size_t>(k)] = h(k / 3, k % 3);
+      next_row_strain_ = 0.0;
+    }
+    specimen_.run([&] {
+      if (isotropic && test_strain() >= next_row_strain_ - 1e-12) record_row();
+    });
+    if (isotropic) {
+      record_row();  // the end state
+      stage_ = Stage::Done;
+    } else {
+      start_loading();
+    }
+  }
+  if (stage_ == Stage::Loading) {
+    const double target = config_.element.target_strain;
+    double strain = test_strain();
+    while (strain < target) {
+      w.step(loading_chunk_steps);
+      strain = test_strain();
+      if (strain >= next_row_strain_ - 1e-12 || strain >= target) {
+        record_row();
+        std::ostringstream detail;
+        detail << to_string(config_.element.test) << " strain " << strain << " of " << target << ", q "
+               << history_.last("deviator_stress") / 1e3 << " kPa, p " << history_.last("mean_stress") / 1e3 << " kPa";
+        run_.progress("loading", detail.str(), strain, target);
+      }
+      run_.save_if_due();  // after the chunk's row: a resume goes on with the next chunk
+    }
+    stage_ = Stage::Done;
+  }
+  run_.add_wall_seconds(seconds_since(t0));
+  run_.save(run_.folder() / "final.restart");
+  run_.log() << to_string(config_.element.test) << " done at step " << w.step_count() << ": peak stress ratio " << peak_ratio_
+             << " at strain " << peak_strain_ << "\n";
+}
+
+void ElementTest::add_columns() {
+  const World& w = run_.world();
+  HistoryLog& h = history_;
+  // One measurement a row: the stress (compression positive), the strain and the packing.
+  struct RowState {
+    Mat3 sigma = Mat3::Zero();
+    measure::CellStrain strain;
+    measure::CellPacking packing;
+  };
+  auto row = std::make_shared<RowState>();
+  h.before_row([this, row, &w] {
+    row->sigma = -measure::cell_stress(w).stress;
+    row->strain = measure::cell_strain(reference(), w.periodic_cell()->matrix());
+    row->packing = measure::cell_packing(w);
+  });
+  const auto p = [row] { return row->sigma.trace() / 3; };
+  const auto q = [row] { return row->sigma(2, 2) - 0.5 * (row->sigma(0, 0) + row->sigma(1, 1)); };
+  h.add("step", [&w] { return static_cast<double>(w.step_count()); });
+  h.add("time_s", [&w] { return w.time(); });
+  h.add("stage", [this] { return static_cast<double>(stage_); });
+  h.add("axial_strain", [row] { return -row->strain.small_strain(2, 2); });
+  h.add("volumetric_strain", [row] { return 1.0 - row->strain.deformation_gradient.determinant(); });
+  h.add("shear_strain", [row] { return row->strain.deformation_gradient(0, 2); });
+  h.add("mean_stress", p);
+  h.add("deviator_stress", q);
+  h.add("stress_ratio", [p, q] { return p() > 0.0 ? q() / p() : 0.0; });
+  // tau = -sigma_xz (compression positive): the shear stress that resists a positive shear strain.
+  h.add("shear_stress", [row] { return -row->sigma(0, 2); });
+  h.add("shear_stress_ratio", [row] { return row->sigma(2, 2) > 0.0 ? -row->sigma(0, 2) / row->sigma(2, 2) : 0.0; });
+  h.add("void_ratio", [row] { return row->packing.void_ratio; });
+  h.add("porosity", [row] { return row->packing.porosity; });
+  h.add("coordination", [row] { return row->packing.mechanical_coordination_number; });
+  const char* names[6] = {"cell_stress_xx", "cell_stress_yy", "cell_stress_zz", "cell_stress_xy", "cell_stress_xz", "cell_stress_yz"};
+  const int index[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
+  for (int k = 0; k < 6; ++k) h.add(names[k], [row, a = index[k][0], b = index[k][1]] { return row->sigma(a, b); });
+  h.add("unbalanced_force_ratio", [&w] { return w.unbalanced_force_ratio(); });
+}
+
+void ElementTest::write_summary(const std::string& resolved_config_json) const {
+  io::Json j;
+  j["test"] = to_string(config_.element.test);
+  j["balls"] = run_.world().particles().size();
+  j["strain_rate_per_s"] = config_.element.test == ElementTestKind::Isotropic ? 0.0 : strain_rate();
+  j["peak"] = {{simple_shear(config_.element.test) ? "shear_stress_ratio" : "stress_ratio", peak_ratio_}, {"strain", peak_strain_}};
+  if (history_.rows() > 0) {
+    io::Json f;
+    for (const char* name : {"axial_strain", "volumetric_strain", "shear_strain", "mean_stress", "deviator_stress", "stress_ratio",
+                             "shear_stress", "void_ratio", "porosity", "coordination"})
+      f[name] = history_.last(name);
+    j["final"] = f;
+  }
+  j["steps"] = run_.world().step_count();
+  j["wall_clock_s"] = run_.wall_seconds();
+  j["time_step_s"] = run_.world().time_step();
+  j["configuration"] = io::Json::parse(resolved_config_json);
+  io::save_json(run_.folder() / "summary.json", j);
+}
+
+}  // namespace dem::lab
