@@ -141,6 +141,16 @@ struct HertzMindlinParams {
   static constexpr double reference_overlap_ratio = 0.01;
 };
 
+namespace detail {
+
+/// `choose ? a : b`, component by component: a choice between two whole Lane3 values becomes a
+/// load through a chosen address, which keeps the vectoriser out of the loop.
+DEM_HOT_INLINE Lane3 select_lanes(bool choose, const Lane3& a, const Lane3& b) {
+  return {choose ? a.x : b.x, choose ? a.y : b.y, choose ? a.z : b.z};
+}
+
+}  // namespace detail
+
 /// Hertz normal force, Mindlin tangential stiffness with Coulomb slip, damping from restitution
 /// after LIGGGHTS or LAMMPS (HertzMindlinParams::damping_model), optional rolling resistance.
 struct HertzMindlinLaw {
@@ -195,10 +205,10 @@ struct HertzMindlinLaw {
     const double scale = has_history ? limit / std::sqrt(slip ? trial_sq : 1.0) : 0.0;
     const Lane3 slipping = scale * trial;
     const Lane3 sticking = trial - (1.0 - p.damping_in_slip) * damping_force;
-    const Lane3 shear_force = slip ? slipping : sticking;
+    const Lane3 shear_force = detail::select_lanes(slip, slipping, sticking);
     const double inverse_stiffness = 1.0 / (shear_stiffness > 0.0 ? shear_stiffness : 1.0);
     const Lane3 xi_slipping = -inverse_stiffness * (slipping + p.damping_in_slip * damping_force);
-    state.shear_displacement = slip ? xi_slipping : xi;
+    state.shear_displacement = detail::select_lanes(slip, xi_slipping, xi);
 
     // Rolling resistance: k_r = k_t R*^2 on the bend rate, capped at mu_r R* |F_n|.
     const Lane3 bend_rate = k.relative_angular_velocity - dot(k.relative_angular_velocity, n) * n;
