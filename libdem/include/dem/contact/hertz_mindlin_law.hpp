@@ -39,8 +39,9 @@
 //
 // The time-step estimate (stiffness()) takes the tangent stiffnesses at an overlap of 1 % of R*:
 // dF_ne/d delta = 2 E* a and k_t. Leapfrog stays stable while the actual stiffness is below
-// (2 / safety)^2 times the estimate, i.e. (k ~ sqrt(delta)) while every overlap is below
-// (2 / 0.8)^4 = 39 times the reference: 39 % of R*, beyond any contact the World accepts as stable.
+// (2 / safety)^2 times the estimate, i.e. (k ~ sqrt(delta)) while a ball's one contact stays below
+// (2 / 0.8)^4 = 39 times the reference overlap, 39 % of R*: far beyond the overlaps of a granular
+// packing (below 1 % of R*). A ball's several contacts add their stiffnesses in the estimate too.
 //
 // The same arithmetic runs one contact at a time (force) and in the engine's SIMD blocks
 // (force_lanes): the same bits (contact/lanes.hpp). The damping model is a per-type constant
