@@ -1,5 +1,6 @@
 #include "bench_system.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -40,6 +41,32 @@ std::shared_ptr<const ContactModel> bench_law(double gamma_n, double mu, double 
   law.normal_damping_rate = gamma_n;
   law.shear_damping_rate = gamma_n;
   return make_contact_model<RollingLinearLaw>(law, "contact");
+}
+
+std::shared_ptr<const ContactModel> bench_hertz_law(const std::vector<BallSpec>& balls, double mu, double mu_r) {
+  // The touching pairs by a sweep along x: each ball against those after it within two radii.
+  std::vector<const BallSpec*> by_x;
+  double r_max = 0.0;
+  for (const BallSpec& b : balls) by_x.push_back(&b), r_max = std::max(r_max, b.radius);
+  std::sort(by_x.begin(), by_x.end(), [](const BallSpec* a, const BallSpec* b) { return a->position.x() < b->position.x(); });
+  double overlap_sum = 0.0, radius_sum = 0.0;
+  std::size_t pairs = 0;
+  for (std::size_t i = 0; i < by_x.size(); ++i)
+    for (std::size_t j = i + 1; j < by_x.size() && by_x[j]->position.x() - by_x[i]->position.x() < 2 * r_max; ++j) {
+      const double reach = by_x[i]->radius + by_x[j]->radius;
+      const double overlap = reach - (by_x[j]->position - by_x[i]->position).norm();
+      if (overlap <= 0.0) continue;
+      overlap_sum += overlap;
+      radius_sum += by_x[i]->radius * by_x[j]->radius / reach;
+      ++pairs;
+    }
+  if (pairs == 0) throw InputError("--law hertz-mindlin: the packing has no touching balls to match the stiffness at");
+  const double overlap = overlap_sum / static_cast<double>(pairs), r_eff = radius_sum / static_cast<double>(pairs);
+  const double nu = 0.25;
+  const double effective_modulus = 3.0 * normal_stiffness / (4.0 * std::sqrt(r_eff * overlap));  // 4/3 E* a = kn
+  const double restitution = std::exp(-pi * 0.2 / std::sqrt(1.0 - 0.2 * 0.2));
+  const auto law = HertzMindlinParams::material(effective_modulus * 2.0 * (1.0 - nu * nu), nu, restitution, mu, mu_r);
+  return make_contact_model<HertzMindlinLaw>(law, "contact");
 }
 
 WallId add_cylinder_walls(World& world, double top_z, double side_top, int segments) {

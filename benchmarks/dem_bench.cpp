@@ -110,6 +110,9 @@ int main(int argc, char** argv) {
       "and write it to --out")(
       "out", po::value(&generate.out), "packing file written by --generate")(
       "seed", po::value(&generate.seed)->default_value(1), "random seed of --generate")(
+      "law", po::value<std::string>()->default_value("rrlinear"),
+      "contact law: rrlinear (the peers' benchmark law) or hertz-mindlin (its stiffness matched at the packing's "
+      "mean overlap, bench_system.hpp), to time one against the other")(
       "digest", "print a hash of the final state (state_digest), the same bit for bit for any rank and thread count")(
       "isa", po::value<std::string>()->default_value("best"),
       "instruction set of the contact blocks and the leapfrog: best (the processor's), avx512, avx2 or scalar; "
@@ -169,6 +172,11 @@ int main(int argc, char** argv) {
     // The input copy (96 B per ball) is the benchmark's, not the library's: drop it before the
     // peak RSS is reached (the first neighbour-list build).
     const std::size_t ball_count = balls.size();
+    const std::string law = vm["law"].as<std::string>();
+    if (law != "rrlinear" && law != "hertz-mindlin")
+      throw InputError("--law = " + law + ": must be rrlinear or hertz-mindlin");
+    const auto model = law == "rrlinear" ? bench_law(gamma_n, friction, rolling_friction)
+                                         : bench_hertz_law(balls, friction, rolling_friction);  // needs the packing
     std::vector<BallSpec>().swap(balls);
     const std::string boundary = vm["boundary"].as<std::string>();
     if (boundary != "cylinder" && boundary != "analytic" && boundary != "rings" && boundary != "none")
@@ -192,7 +200,6 @@ int main(int argc, char** argv) {
       top = world.add_wall(make_facet_wall("top", geometry::make_disc(Vec3(0, 0, top_z), 0.035 + 2 * d_min, Vec3::UnitZ(), 24), Vec3::UnitZ()));
     }
     if (top >= 0) world.wall(top).velocity = Vec3(0, 0, -wall_speed);
-    const auto model = bench_law(gamma_n, friction, rolling_friction);
     for (ContactKind k : {ContactKind::BallBall, ContactKind::BallFacet, ContactKind::BallPebble}) world.set_contact_model(k, model);
     const auto domains = cli::open_domains(*farm);
     if (domains) world.spread_over(domains);

@@ -72,6 +72,7 @@ void bind_contact_laws(py::module_& m) {
         d["unit"] = p.unit;
         d["default"] = p.default_value;
         d["help"] = p.help;
+        if (!p.choices.empty()) d["choices"] = p.choices;  // the value is the index of one
         parameters[py::str(p.name)] = d;
       }
       row["parameters"] = parameters;
@@ -79,7 +80,7 @@ void bind_contact_laws(py::module_& m) {
     }
     return laws;
   }, "The contact laws by keyword (core/law_registry.hpp): a list of {'keyword', 'summary', 'parameters':\n"
-     "{name: {'unit', 'default', 'help'}}}, the first the default of every contact type.");
+     "{name: {'unit', 'default', 'help'[, 'choices']}}}, the first the default of every contact type.");
 }
 
 }  // namespace dem::python

@@ -11,6 +11,7 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <algorithm>
 #include <fstream>
 #include <memory>
 
@@ -391,7 +392,12 @@ void bind_engine(py::module_& m) {
                  for (const LawParameter& p : entry.parameters) known += (known.empty() ? "" : ", ") + p.name;
                  throw InputError(name + "." + k + ": not a parameter of contact law " + law + " (its parameters: " + known + ")");
                }
-               values.set(k, value.cast<double>());
+               const auto parameter = std::find_if(entry.parameters.begin(), entry.parameters.end(),
+                                                   [&k](const LawParameter& p) { return p.name == k; });
+               if (!parameter->choices.empty() && py::isinstance<py::str>(value))
+                 values.set(k, parameter->choice_index(value.cast<std::string>(), name + "." + k));
+               else
+                 values.set(k, value.cast<double>());
              }
              w.set_contact_model(kind, entry.bind(values, name));
            },
@@ -400,8 +406,8 @@ void bind_engine(py::module_& m) {
            "Args:\n"
            "    kind: a ContactKind.\n"
            "    law: the keyword, e.g. 'rrlinear' or 'linear'.\n"
-           "    parameters: {name: value} in SI units (e.g. {'effective_modulus': 1e8, 'friction': 0.5}); the others\n"
-           "        keep the registry's defaults.\n"
+           "    parameters: {name: value} in SI units (e.g. {'effective_modulus': 1e8, 'friction': 0.5}); a named\n"
+           "        choice by its name (e.g. {'damping_model': 'tsuji'}); the others keep the registry's defaults.\n"
            "    name: for messages.\n\n"
            "Raises:\n"
            "    ValueError: an unknown law or parameter, or a value the law cannot use, named.")

@@ -1,5 +1,7 @@
-// A user-defined contact law plugs into the engine without editing it: Hertz-Mindlin, defined
-// here, reproduces Hertz's head-on contact duration t = 2.8683 (m_eff^2 / (R_eff E^2 v0))^(1/5).
+// A user-defined contact law plugs into the engine without editing it: a plain Hertz-Mindlin,
+// defined here as a user would write one (one contact at a time, no SIMD form), reproduces Hertz's
+// head-on contact duration t = 2.8683 (m_eff^2 / (R_eff E^2 v0))^(1/5). The library's own
+// Hertz-Mindlin, with damping and rolling resistance, is HertzMindlinLaw (test_hertz_mindlin.cpp).
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -13,7 +15,7 @@ namespace {
 
 /// Hertz normal force F = 4/3 E sqrt(R_eff) delta^1.5; Mindlin no-slip tangential stiffness
 /// k_t = 8 G sqrt(R_eff delta) with Coulomb slip (Johnson, Contact Mechanics, 1985, ch. 4 and 7).
-struct HertzMindlinLaw {
+struct UserHertzLaw {
   struct Params {
     double modulus = 0.0;        // Pa, effective Young's modulus E*
     double shear_modulus = 0.0;  // Pa, effective shear modulus G*
@@ -59,7 +61,7 @@ TEST_CASE("custom law: a Hertz-Mindlin law defined outside the library gives Her
   world.add_ball(ball_at(Vec3::Zero(), Vec3(0.5 * v0, 0, 0)));
   world.add_ball(ball_at(Vec3(2 * radius + 1e-7, 0, 0), Vec3(-0.5 * v0, 0, 0)));
   world.set_contact_model(ContactKind::BallBall,
-                          make_contact_model<HertzMindlinLaw>({modulus, modulus / 2.5, 0.5}, "ball-ball"));
+                          make_contact_model<UserHertzLaw>({modulus, modulus / 2.5, 0.5}, "ball-ball"));
   const double m_eff = ball_mass() / 2, r_eff = radius / 2;
   const double expected = 2.8683 * std::pow(m_eff * m_eff / (r_eff * modulus * modulus * v0), 0.2);
   double contact_time = 0.0;

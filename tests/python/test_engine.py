@@ -222,3 +222,10 @@ def test_contact_laws_by_keyword():
         world.set_contact_law(libdem.ContactKind.BALL_BALL, "linear", {"rolling_friction": 0.1}, "ball_ball")
     with pytest.raises(ValueError, match="ball_ball.friction"):
         world.set_contact_law(libdem.ContactKind.BALL_BALL, "linear", {"friction": -1.0}, "ball_ball")
+    # Hertz-Mindlin with its material, and its damping model named as the apps' key takes it
+    assert laws["hertz-mindlin"]["parameters"]["damping_model"]["choices"] == ["liggghts", "tsuji"]
+    world.set_contact_law(libdem.ContactKind.BALL_BALL, "hertz-mindlin",
+                          {"youngs_modulus": 7e10, "restitution": 0.7, "damping_model": "tsuji"}, "ball_ball")
+    assert world.contact_law(libdem.ContactKind.BALL_BALL) == "hertz-mindlin"
+    with pytest.raises(ValueError, match="ball_ball.damping_model = hooke.*liggghts, tsuji"):
+        world.set_contact_law(libdem.ContactKind.BALL_BALL, "hertz-mindlin", {"damping_model": "hooke"}, "ball_ball")

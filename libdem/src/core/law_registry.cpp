@@ -3,6 +3,7 @@
 
 #include <stdexcept>
 
+#include <dem/contact/hertz_mindlin_law.hpp>
 #include <dem/contact/linear_law.hpp>
 #include <dem/core/errors.hpp>
 
@@ -16,6 +17,22 @@ double LawValues::at(const std::string& name) const {
   const auto it = values_.find(name);
   if (it == values_.end()) throw std::logic_error("contact law parameter '" + name + "': the law has none of that name");
   return it->second;
+}
+
+std::string LawParameter::choice_name(double value) const {
+  const auto index = static_cast<std::size_t>(value);
+  if (value < 0.0 || index >= choices.size() || static_cast<double>(index) != value)
+    throw std::logic_error("contact law parameter '" + name + "': no choice of index " + std::to_string(value));
+  return choices[index];
+}
+
+double LawParameter::choice_index(const std::string& text, const std::string& key) const {
+  std::string known;
+  for (std::size_t i = 0; i < choices.size(); ++i) {
+    if (choices[i] == text) return static_cast<double>(i);
+    known += (known.empty() ? "" : ", ") + choices[i];
+  }
+  throw InputError(key + " = " + text + ": must be one of " + known);
 }
 
 double LawValues::value_or(const std::string& name, double fallback) const {
@@ -60,6 +77,33 @@ std::vector<LawParameter> rolling_linear_parameters() {
   return parameters;
 }
 
+// Hertz-Mindlin's keys: the material as LIGGGHTS users give it (docs/model.md 1.4).
+std::vector<LawParameter> hertz_mindlin_parameters() {
+  return {
+      {"youngs_modulus", "Pa", "Young's modulus E of the material (E* = E / (2 (1 - nu^2)))", 1e8, 0.0, {}, true},
+      {"poissons_ratio", "-", "Poisson's ratio nu (G* = E / (4 (2 - nu)(1 + nu)))", 0.25, 0.0, 0.5},
+      {"restitution", "-", "coefficient of restitution e of a head-on impact, sets the dashpots", 0.5, 0.0, 1.0, true},
+      {"friction", "-", "Coulomb friction coefficient", 0.5, 0.0},
+      {"rolling_friction", "-", "rolling resistance coefficient mu_r", 0.0, 0.0},
+      {"damping_model", "-", "dashpots from e as LIGGGHTS's hertz model (liggghts) or LAMMPS's damping tsuji (tsuji)",
+       0.0, {}, {}, false, {"liggghts", "tsuji"}},
+  };
+}
+
+std::shared_ptr<const ContactModel> bind_hertz_mindlin(const LawValues& v, const std::string& where) {
+  const double model = v.at("damping_model");
+  require(model == 0.0 || model == 1.0, where + ".damping_model", model, "liggghts (0) or tsuji (1)");
+  HertzMindlinParams p;
+  p.youngs_modulus = v.at("youngs_modulus");
+  p.poissons_ratio = v.at("poissons_ratio");
+  p.restitution = v.at("restitution");
+  p.friction = v.at("friction");
+  p.rolling_friction = v.at("rolling_friction");
+  p.damping_model = model == 1.0 ? HertzDamping::tsuji : HertzDamping::liggghts;
+  p.derive();  // a restitution out of range gives NaN constants here, refused by name in validate()
+  return make_contact_model<HertzMindlinLaw>(p, where);
+}
+
 }  // namespace
 
 const std::vector<LawEntry>& contact_laws() {
@@ -73,6 +117,12 @@ const std::vector<LawEntry>& contact_laws() {
        linear_parameters(),
        {"effective_modulus", "friction", ""},
        &bind_linear},
+      {"hertz-mindlin",
+       "Hertz normal, Mindlin tangential with Coulomb slip, dashpots from restitution as LIGGGHTS or LAMMPS, "
+       "optional rolling resistance (docs/model.md 1.4)",
+       hertz_mindlin_parameters(),
+       {"youngs_modulus", "friction", "rolling_friction"},
+       &bind_hertz_mindlin},
   };
   return laws;
 }

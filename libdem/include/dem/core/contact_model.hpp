@@ -20,6 +20,7 @@
 #include <dem/boundary/periodic_cell.hpp>
 #include <dem/contact/contact_law.hpp>
 #include <dem/contact/contact_sets.hpp>
+#include <dem/contact/hertz_mindlin_law.hpp>
 #include <dem/contact/kinematics.hpp>
 #include <dem/contact/linear_law.hpp>
 #include <dem/core/step_plan.hpp>
@@ -107,12 +108,14 @@ template <ContactLaw Law>
 std::shared_ptr<const ContactModel> make_contact_model(const typename Law::Params& params,
                                                        const std::string& where = "contact");
 
-// The linear laws' loops are compiled once, in the library (src/core/builtin_law_loops.cpp): a
+// The built-in laws' loops are compiled once, in the library (src/core/builtin_law_loops.cpp): a
 // program that sets these laws compiles none of the loop templates, and every program runs the
 // same machine code for them.
 extern template std::shared_ptr<const ContactModel> make_contact_model<LinearLaw>(const LinearLaw::Params&,
                                                                                  const std::string&);
 extern template std::shared_ptr<const ContactModel> make_contact_model<RollingLinearLaw>(
     const RollingLinearLaw::Params&, const std::string&);
+extern template std::shared_ptr<const ContactModel> make_contact_model<HertzMindlinLaw>(
+    const HertzMindlinLaw::Params&, const std::string&);
 
 }  // namespace dem

@@ -30,14 +30,21 @@
 
 namespace dem {
 
-/// One parameter of a law: a real-valued key `<section>.<name>` of the configuration.
+/// One parameter of a law: a key `<section>.<name>` of the configuration, real-valued, or one of
+/// named choices (the value is the choice's index, the key's text its name).
 struct LawParameter {
   std::string name;             // key name, e.g. "effective_modulus"
   std::string unit;             // SI unit, "-" if dimensionless
   std::string help;             // one line
-  double default_value = 0.0;   // in the unit above
+  double default_value = 0.0;   // in the unit above (for choices: the index of the default)
   std::optional<double> min{}, max{};  // allowed range, inclusive unless min_exclusive
   bool min_exclusive = false;
+  std::vector<std::string> choices{};  // named choices, e.g. {"liggghts", "tsuji"}; empty: a real
+
+  /// The name of choice `value`, and the index of choice `text` (InputError naming `key`, the
+  /// text and the choices).
+  std::string choice_name(double value) const;
+  double choice_index(const std::string& text, const std::string& key) const;
 };
 
 /// A law's parameter values by name, in SI units.

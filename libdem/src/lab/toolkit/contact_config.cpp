@@ -77,11 +77,19 @@ void add_contact_keys(io::Schema& schema, const std::string& section, const std:
   schema.add({.key = section + ".law", .type = io::ValueType::Text, .default_value = defaults.law, .unit = "-",
               .help = "contact law of " + what + " contacts, its parameters the keys below (" + laws + ")",
               .choices = contact_law_keywords(), .fixed = rules.law});
-  for (const LawParameter& p : all_parameters())
+  for (const LawParameter& p : all_parameters()) {
+    const std::optional<io::FixedAfter>& fixed = friction_role(p.name) ? rules.friction : rules.parameters;
+    if (!p.choices.empty()) {  // a named choice: a text key
+      schema.add({.key = section + "." + p.name, .type = io::ValueType::Text,
+                  .default_value = p.choice_name(defaults.parameters.value_or(p.name, p.default_value)), .unit = p.unit,
+                  .help = p.help + " " + laws_using(p.name), .choices = p.choices, .fixed = fixed});
+      continue;
+    }
     schema.add({.key = section + "." + p.name, .type = io::ValueType::Real,
                 .default_value = io::real_text(defaults.parameters.value_or(p.name, p.default_value)), .unit = p.unit,
                 .help = p.help + " " + laws_using(p.name), .min = p.min, .max = p.max, .min_exclusive = p.min_exclusive,
-                .fixed = friction_role(p.name) ? rules.friction : rules.parameters});
+                .fixed = fixed});
+  }
 }
 
 ContactTypeConfig read_contact_keys(const io::Config& config, const std::string& section) {
@@ -89,7 +97,10 @@ ContactTypeConfig read_contact_keys(const io::Config& config, const std::string&
   c.law = config.text(section + ".law");
   const LawEntry& law = contact_law(c.law, section + ".law");
   c.parameters = LawValues();
-  for (const LawParameter& p : law.parameters) c.parameters.set(p.name, config.real(section + "." + p.name));
+  for (const LawParameter& p : law.parameters) {
+    const std::string key = section + "." + p.name;
+    c.parameters.set(p.name, p.choices.empty() ? config.real(key) : p.choice_index(config.text(key), key));
+  }
   return c;
 }
 
@@ -98,7 +109,7 @@ void append_contact_values(std::vector<std::pair<std::string, std::string>>& out
   out.emplace_back(section + ".law", value.law);
   for (const LawParameter& p : all_parameters()) {
     const double v = value.parameters.value_or(p.name, defaults.parameters.value_or(p.name, p.default_value));
-    out.emplace_back(section + "." + p.name, io::real_text(v));
+    out.emplace_back(section + "." + p.name, p.choices.empty() ? io::real_text(v) : p.choice_name(v));
   }
 }
 
