@@ -148,6 +148,7 @@ TEST_CASE("determinism: one and two threads give bit-identical trajectories", "[
   auto make = [&](int threads) {
     WorldSettings s;
     s.threads = threads;
+    s.adapt_threads = false;  // the plan inspected below is that of every step's team
     World world(s);
     for (const BallSpec& b : spinning_lattice(16, 9)) world.add_ball(b);
     // the bottom and top layers' centres are 0.28 mm from the plates: every one of them touches
