@@ -28,12 +28,15 @@ void ThreadTeam::step_took(double seconds) {
   if (!adapts()) return;
   window_seconds_ += seconds;
   ++window_count_;
-  // A probe that has taken longer than a whole window at the current size, at a slower pace, has
-  // lost already.
+  // A probe that has fallen a few steps behind the current size's pace, or has taken longer than a
+  // whole window at the current size at a slower pace, has lost already. (A step of a faster size
+  // that rebuilds the neighbour lists does not put it steps behind.)
   const double current_window =
       std::min(current_mean_ * static_cast<double>(tuning_.window_steps), tuning_.max_window_seconds);
-  const bool lost = probing_ && current_mean_ > 0.0 && window_seconds_ > current_window &&
-                    window_seconds_ > current_mean_ * static_cast<double>(window_count_);
+  const double current_pace = current_mean_ * static_cast<double>(window_count_);
+  const bool lost = probing_ && current_mean_ > 0.0 &&
+                    (window_seconds_ > current_pace + tuning_.probe_budget_steps * current_mean_ ||
+                     (window_seconds_ > current_window && window_seconds_ > current_pace));
   if (lost || window_count_ >= tuning_.window_steps || window_seconds_ >= tuning_.max_window_seconds) end_window(lost);
 }
 

@@ -10,9 +10,10 @@
 // - The sizes it may take are the configured count, its half, its quarter, ..., 1.
 // - It times windows of `window_steps` steps, or of `max_window_seconds` if that comes first (wall
 //   clock, the engine's part of each step), and keeps the mean step time of the last window.
-// - After its first window, and then every `probe_every` windows, it tries a neighbouring size (one smaller, then one larger, in
-//   turn) for one window. A probe that has already taken longer than a whole window at the current
-//   size is given up at once, so trying a slow size costs about one window. If the probe's mean
+// - After its first window, and then every `probe_every` windows, it tries a neighbouring size (one
+//   smaller, then one larger, in turn) for one window. A probe that falls behind the current size's
+//   pace by `probe_budget_steps` of its steps, or has taken longer than a whole window at the
+//   current size, is given up at once, so trying a slow size costs a few steps. If the probe's mean
 //   step is at least `switch_margin` faster, the team moves to that size; otherwise it stays and
 //   waits twice as long before the next probe (up to `max_probe_every` windows), so a steady
 //   machine is probed rarely.
@@ -38,6 +39,7 @@ class ThreadTeam {
     std::int64_t max_probe_every = 512;  // windows
     double switch_margin = 0.95;         // a probe wins when its mean step is below this fraction
     double load_change = 2.0;
+    double probe_budget_steps = 4.0;     // steps at the current pace a probe may fall behind by
   };
 
   /// A team of up to `most` threads (>= 1); `adapt` false keeps it at `most`.
