@@ -7,6 +7,7 @@
 #include <dem/measure/shear_uniformity.hpp>
 
 #include "../../io/json_file.hpp"
+#include "../toolkit/run_summary.hpp"
 
 namespace dem::lab {
 
@@ -128,11 +129,7 @@ void CyclicShearTest::write_summary(const std::string& resolved_config_json) con
       f[name] = history_.last(name);
     j["final"] = f;
   }
-  j["wall_clock_s"] = outcome_.wall_seconds;
-  j["threads"] = run_.world().threads();
-  j["time_step_s"] = run_.world().time_step();
-  j["configuration"] = io::Json::parse(resolved_config_json);
-  io::save_json(run_.folder() / "summary.json", j);
+  save_summary(run_, j, resolved_config_json, outcome_.wall_seconds);
 }
 
 }  // namespace dem::lab

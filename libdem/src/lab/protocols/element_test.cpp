@@ -17,6 +17,7 @@
 #include <dem/measure/cell_stress.hpp>
 
 #include "../../io/json_file.hpp"
+#include "../toolkit/run_summary.hpp"
 
 namespace dem::lab {
 
@@ -262,11 +263,7 @@ void ElementTest::write_summary(const std::string& resolved_config_json) const {
       f[name] = history_.last(name);
     j["final"] = f;
   }
-  j["steps"] = run_.world().step_count();
-  j["wall_clock_s"] = run_.wall_seconds();
-  j["time_step_s"] = run_.world().time_step();
-  j["configuration"] = io::Json::parse(resolved_config_json);
-  io::save_json(run_.folder() / "summary.json", j);
+  save_summary(run_, j, resolved_config_json, run_.wall_seconds());
 }
 
 }  // namespace dem::lab

@@ -5,13 +5,13 @@
 #include <dem/lab/toolkit/uniformity_probe.hpp>
 
 #include "../../io/json_file.hpp"
+#include "../toolkit/run_summary.hpp"
 
 namespace dem::lab {
 
 void SimpleShearTest::write_summary(const std::string& resolved_config_json) const {
   io::Json j;
   const double d_max = config_.grading.largest();
-  const World& w = world();
   j["balls"] = ball_count();
   j["porosity_generated"] = generated_porosity();
   j["d_min_m"] = config_.grading.smallest();
@@ -90,31 +90,7 @@ void SimpleShearTest::write_summary(const std::string& resolved_config_json) con
       j["uniformity"] = u;
     }
   }
-  j["steps"] = w.step_count();
-  const double wall_seconds = run_.wall_seconds();
-  j["wall_clock_s"] = wall_seconds;
-  j["particle_steps_per_second"] =
-      wall_seconds > 0 ? static_cast<double>(w.step_count()) * static_cast<double>(w.particles().size()) / wall_seconds : 0.0;
-  j["threads"] = w.threads();
-  j["processes"] = w.ranks();  // MPI ranks the simulation was spread over
-  j["time_step_s"] = w.time_step();
-  // Where this process's steps spent their time (a resumed run: since it resumed).
-  const StepTiming& t = w.step_timing();
-  j["step_timing_s"] = {{"rebuilds", t.rebuilds},       {"ball_ball", t.ball_ball},     {"ball_pebble", t.ball_pebble},
-                        {"ball_facet", t.ball_facet},   {"force_sums", t.force_sums},   {"controllers", t.controllers},
-                        {"integration", t.integration}, {"communication", t.communication}, {"total", t.total()}};
-  j["configuration"] = io::Json::parse(resolved_config_json);
-  if (run_.loaded()) {
-    io::Json changed;
-    for (const auto& [key, before, after] : run_.changes()) {
-      io::Json c;
-      c["restart_file"] = before;
-      c["this_run"] = after;
-      changed[key] = c;
-    }
-    j["resume_changed_keys"] = changed;
-  }
-  io::save_json(run_.folder() / "summary.json", j);
+  save_summary(run_, j, resolved_config_json, run_.wall_seconds());
   if (h_over_d <= 10.0)
     run_.log() << "warning: H/d_max = " << h_over_d << " is not above 10 (ASTM D6528 as quoted by the study)\n";
   if (d_over_h <= 2.5) run_.log() << "warning: D/H = " << d_over_h << " is not above 2.5 (ASTM D6528)\n";

@@ -17,6 +17,7 @@
 #include <dem/lab/toolkit/simple_shear_parts.hpp>
 
 #include "../../io/json_file.hpp"
+#include "../toolkit/run_summary.hpp"
 
 namespace dem::lab {
 
@@ -177,17 +178,19 @@ void TriaxialTest::run() {
     const double target = config_.axial.target_strain;
     double strain = 1 - gap(2) / height0_;
     while (strain < target) {
-      run_.step(10);
+      w.step(10);
       strain = 1 - gap(2) / height0_;
-      if (strain < next_row_strain_ - 1e-12 && strain < target) continue;
-      history_.record();
-      while (next_row_strain_ <= strain + 1e-12) next_row_strain_ += config_.axial.every_strain;
-      const double ratio = history_.last("stress_ratio");
-      if (ratio > peak_ratio_) peak_ratio_ = ratio, peak_strain_ = strain;
-      std::ostringstream detail;
-      detail << "axial strain " << strain << " of " << target << ", q " << history_.last("deviator_stress") / 1e3 << " kPa, p "
-             << history_.last("mean_stress") / 1e3 << " kPa";
-      run_.progress("axial", detail.str(), strain, target);
+      if (strain >= next_row_strain_ - 1e-12 || strain >= target) {
+        history_.record();
+        while (next_row_strain_ <= strain + 1e-12) next_row_strain_ += config_.axial.every_strain;
+        const double ratio = history_.last("stress_ratio");
+        if (ratio > peak_ratio_) peak_ratio_ = ratio, peak_strain_ = strain;
+        std::ostringstream detail;
+        detail << "axial strain " << strain << " of " << target << ", q " << history_.last("deviator_stress") / 1e3 << " kPa, p "
+               << history_.last("mean_stress") / 1e3 << " kPa";
+        run_.progress("axial", detail.str(), strain, target);
+      }
+      run_.save_if_due();  // after the chunk's row: a resume goes on with the next chunk
     }
     stage_ = Stage::Done;
     run_.add_wall_seconds(seconds_since(t0));
@@ -236,11 +239,7 @@ void TriaxialTest::write_summary(const std::string& resolved_config_json) const 
       f[name] = history_.last(name);
     j["final"] = f;
   }
-  j["steps"] = run_.world().step_count();
-  j["wall_clock_s"] = run_.wall_seconds();
-  j["time_step_s"] = run_.world().time_step();
-  j["configuration"] = io::Json::parse(resolved_config_json);
-  io::save_json(run_.folder() / "summary.json", j);
+  save_summary(run_, j, resolved_config_json, run_.wall_seconds());
 }
 
 }  // namespace dem::lab
