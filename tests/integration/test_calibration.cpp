@@ -126,13 +126,24 @@ TEST_CASE("calibration: stage 3 matches the late dilatancy only when the lab cur
   CHECK(settings.rolling_target == CalibrationSettings::RollingTarget::Dilatancy);
   std::ostringstream log;
   // No volumetric column: refused before any simulation, naming the key and what is allowed.
-  const LabCurve no_volume = lab_from(dir, "shear_strain,shear_stress\n0,0\n0.01,50000\n0.02,80000\n");
+  const LabCurve no_volume = lab_from(dir, "shear_strain,shear_stress\n0,0\n0.002,12000\n0.005,25000\n0.01,50000\n0.02,80000\n");
   CHECK_THROWS_WITH(Calibration(c, settings, no_volume, dir / "a", {}, log),
                     Contains("calibration.rolling_target = dilatancy") && Contains("no volumetric strain") && Contains("peak"));
   // A volumetric strain that stays below eps_strain (1e-4) late in the curve: refused too.
-  const LabCurve flat = lab_from(dir, "shear_strain,shear_stress,volumetric_strain\n0,0,0\n0.01,50000,0.001\n0.02,80000,0.00005\n");
+  const LabCurve flat = lab_from(dir, "shear_strain,shear_stress,volumetric_strain\n0,0,0\n0.002,12000,0\n0.005,25000,0.0005\n0.01,50000,0.001\n0.02,80000,0.00005\n");
   CHECK_THROWS_WITH(Calibration(c, settings, flat, dir / "b", {}, log), Contains("late dilatancy of 5e-05"));
   CHECK_THROWS_WITH(c.set("calibration.rolling_target", "sideways"), Contains("calibration.rolling_target") && Contains("sideways"));
+  // Too few points for what the stages read: one point below 30 % of the peak (the slope would be
+  // any line through it), or one point in the last 20 % of the strains (the late dilatancy).
+  const LabCurve two_points = lab_from(dir, "shear_strain,shear_stress\n0,0\n0.4,80000\n");
+  c.set("calibration.rolling_target", "peak");
+  CHECK_THROWS_WITH(Calibration(c, calibration_settings(c), two_points, dir / "c", {}, log),
+                    Contains("points with 0 < shear strain <= 0.4") && Contains("= 1") && Contains(">= 2 to fit the initial slope"));
+  const LabCurve one_late = lab_from(dir, "shear_strain,shear_stress,volumetric_strain\n0,0,0\n0.002,12000,0\n0.005,25000,0.001\n"
+                                          "0.01,50000,0.003\n0.02,80000,0.004\n");
+  c.set("calibration.rolling_target", "dilatancy");
+  CHECK_THROWS_WITH(Calibration(c, calibration_settings(c), one_late, dir / "d", {}, log),
+                    Contains("points with shear strain >= 0.016") && Contains(">= 2 for the late dilatancy"));
 }
 
 TEST_CASE("calibration: strain units are explicit: fraction, _percent suffix or the percent flag", "[calibration]") {
@@ -350,7 +361,7 @@ TEST_CASE("calibration: E* and mu are recovered from a curve made with known val
 
   // Another lab curve in the same folder is refused rather than mixed with these trials.
   const fs::path other = temp.path / "other.csv";
-  std::ofstream(other) << "shear_strain,shear_stress\n0,0\n0.01,50000\n0.02,80000\n";
+  std::ofstream(other) << "shear_strain,shear_stress\n0,0\n0.002,12000\n0.005,25000\n0.01,50000\n0.02,80000\n";
   CHECK_THROWS_WITH(Calibration(start, settings, read_lab_curve(other), out, {}, log3), Contains("another calibration set-up"));
 }
 

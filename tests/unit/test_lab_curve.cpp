@@ -106,4 +106,10 @@ TEST_CASE("lab curve: percent read as a fraction and kPa read as Pa are refused 
   CHECK_THROWS_WITH(read_lab_curve(kilo), Contains("peaks at 80 Pa") && Contains("shear_stress_kPa"));
   const fs::path named = lab_file("named.csv", "shear_strain,shear_stress_kPa\n0,0\n0.02,60\n0.05,80\n");
   CHECK(read_lab_curve(named).shear_stress.back() == Approx(8e4));
+  // Pa values under a kPa header: 80,000 kPa (80 MPa) is no soil's simple-shear strength.
+  const fs::path pascals = lab_file("pascals.csv", "shear_strain,shear_stress_kPa\n0,0\n0.02,60000\n0.05,80000\n");
+  CHECK_THROWS_WITH(read_lab_curve(pascals), Contains("'shear_stress_kPa' peaks at 80000 kPa") && Contains("above 10 MPa") &&
+                                                 Contains("name it shear_stress"));
+  const fs::path huge = lab_file("huge.csv", "shear_strain,shear_stress\n0,0\n0.02,6e9\n");
+  CHECK_THROWS_WITH(read_lab_curve(huge), Contains("peaks at 6000000000 Pa") && Contains("does not reach it"));
 }

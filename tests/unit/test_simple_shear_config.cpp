@@ -210,7 +210,13 @@ TEST_CASE("simple-shear keys: absurd physical values are refused at the door wit
                                                        {"specimen.density", "1e-300"},
                                                        {"consolidation.vertical_stress", "1e12"},
                                                        {"engine.time_step", "10"},
-                                                       {"specimen.diameter", "50"}};
+                                                       {"specimen.diameter", "50"},
+                                                       // the laws' parameters: a modulus in the wrong unit, a typo
+                                                       {"ball_ball.effective_modulus", "1e300"},
+                                                       {"ball_facet.youngs_modulus", "7e15"},
+                                                       {"ball_ball.friction", "5e3"},
+                                                       {"ball_pebble.rolling_friction", "1e9"},
+                                                       {"ball_ball.stiffness_ratio", "1e6"}};
   for (const auto& [key, value] : cases) {
     io::Config c(simple_shear_schema());
     CHECK_THROWS_WITH(c.set(key, value), Contains(key) && Contains(value) && Contains("must be"));

@@ -42,12 +42,17 @@ double LawValues::value_or(const std::string& name, double fallback) const {
 
 namespace {
 
+// Upper bounds that catch a value in the wrong unit or a typo, far above any real grain: diamond's
+// Young's modulus is 1.2e12 Pa; friction coefficients above 100 make no slip as well as any.
+constexpr double max_modulus = 1e13;  // Pa
+constexpr double max_friction = 100.0;
+
 // The linear family's keys: the deformability method (docs/model.md 1.3) and optional dashpots.
 std::vector<LawParameter> linear_parameters() {
   return {
-      {"effective_modulus", "Pa", "effective modulus E* (deformability method: kn = pi rbar^2 E* / L)", 1e8, 0.0, {}, true},
-      {"stiffness_ratio", "-", "normal-to-shear stiffness ratio kappa*", 1.0, 0.0, {}, true},
-      {"friction", "-", "Coulomb friction coefficient", 0.5, 0.0},
+      {"effective_modulus", "Pa", "effective modulus E* (deformability method: kn = pi rbar^2 E* / L)", 1e8, 0.0, max_modulus, true},
+      {"stiffness_ratio", "-", "normal-to-shear stiffness ratio kappa*", 1.0, 0.0, 100.0, true},
+      {"friction", "-", "Coulomb friction coefficient", 0.5, 0.0, max_friction},
       {"normal_damping_ratio", "-", "normal dashpot critical-damping ratio (the study does not state one)", 0.0, 0.0, 1.0},
       {"shear_damping_ratio", "-", "shear dashpot critical-damping ratio", 0.0, 0.0, 1.0},
   };
@@ -73,18 +78,18 @@ std::shared_ptr<const ContactModel> bind_rolling_linear(const LawValues& v, cons
 
 std::vector<LawParameter> rolling_linear_parameters() {
   std::vector<LawParameter> parameters = linear_parameters();
-  parameters.insert(parameters.begin() + 3, {"rolling_friction", "-", "rolling resistance coefficient mu_r", 0.0, 0.0});
+  parameters.insert(parameters.begin() + 3, {"rolling_friction", "-", "rolling resistance coefficient mu_r", 0.0, 0.0, max_friction});
   return parameters;
 }
 
 // Hertz-Mindlin's keys: the material as LIGGGHTS users give it (docs/model.md 1.4).
 std::vector<LawParameter> hertz_mindlin_parameters() {
   return {
-      {"youngs_modulus", "Pa", "Young's modulus E of the material (E* = E / (2 (1 - nu^2)))", 1e8, 0.0, {}, true},
+      {"youngs_modulus", "Pa", "Young's modulus E of the material (E* = E / (2 (1 - nu^2)))", 1e8, 0.0, max_modulus, true},
       {"poissons_ratio", "-", "Poisson's ratio nu (G* = E / (4 (2 - nu)(1 + nu)))", 0.25, 0.0, 0.5},
       {"restitution", "-", "coefficient of restitution e of a head-on impact, sets the dashpots", 0.5, 0.0, 1.0, true},
-      {"friction", "-", "Coulomb friction coefficient", 0.5, 0.0},
-      {"rolling_friction", "-", "rolling resistance coefficient mu_r", 0.0, 0.0},
+      {"friction", "-", "Coulomb friction coefficient", 0.5, 0.0, max_friction},
+      {"rolling_friction", "-", "rolling resistance coefficient mu_r", 0.0, 0.0, max_friction},
       {"damping_model", "-", "dashpots from e as LIGGGHTS's hertz model (liggghts) or LAMMPS's damping tsuji (tsuji)",
        0.0, {}, {}, false, {"liggghts", "tsuji"}},
   };

@@ -186,10 +186,28 @@ Calibration::Calibration(io::Config config, CalibrationSettings settings, LabCur
     lab_slope_ = initial_slope(lab_, lab_.shear_stress, slope_limit_);
     lab_peak_ = peak_value(lab_.shear_stress);
     require(lab_slope_ > 0, "lab curve " + lab_.file.string() + " initial slope (Pa)", lab_slope_, "> 0");
+    // Enough points for what the stages read: a slope through one point is any line, a late
+    // dilatancy from one point is that point's noise.
+    const auto points_between = [this](double low, double high) {
+      return std::count_if(lab_.shear_strain.begin(), lab_.shear_strain.end(), [&](double x) { return x > low && x <= high; });
+    };
+    const auto late_points = [this](double low) {
+      return std::count_if(lab_.shear_strain.begin(), lab_.shear_strain.end(), [&](double x) { return x >= low; });
+    };
+    require(points_between(0.0, slope_limit_) >= 2,
+            "lab curve " + lab_.file.string() + " points with 0 < shear strain <= " + detail::exact_text(slope_limit_) +
+                " (where the stress first reaches calibration.slope_stress_fraction of its peak)",
+            points_between(0.0, slope_limit_), ">= 2 to fit the initial slope: add points at small strain");
     using Target = CalibrationSettings::RollingTarget;
     if (settings_.rolling_target != Target::Peak && lab_.has_volumetric()) {
       lab_dilatancy_ = late_mean(lab_, lab_.volumetric_strain, settings_.dilatancy_from * lab_.max_strain());
       rolling_by_dilatancy_ = std::abs(lab_dilatancy_) >= std::max(settings_.comparison.eps_strain, 1e-12);
+      const double late_from = settings_.dilatancy_from * lab_.max_strain();
+      if (rolling_by_dilatancy_)
+        require(late_points(late_from) >= 2,
+                "lab curve " + lab_.file.string() + " points with shear strain >= " + detail::exact_text(late_from) +
+                    " (calibration.dilatancy_from of the largest strain)",
+                late_points(late_from), ">= 2 for the late dilatancy");
     }
     if (settings_.rolling_target == Target::Dilatancy && !rolling_by_dilatancy_)
       throw InputError("calibration.rolling_target = dilatancy: the lab curve " + lab_.file.string() +

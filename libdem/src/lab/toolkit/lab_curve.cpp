@@ -122,6 +122,13 @@ LabCurve read_lab_curve(const std::filesystem::path& file, const LabCurveOptions
   if (!stress_suffixed && largest_stress > 0.0 && largest_stress < 1e3)
     throw InputError(where + ": column 'shear_stress' (Pa) peaks at " + number(largest_stress) +
                      " Pa, below 1 kPa: if the column is in kPa, name it shear_stress_kPa");
+  // A simple-shear test on soil stays far below 10 MPa; Pa values under a kPa header reach it.
+  constexpr double most_stress = 10e6;  // Pa
+  if (largest_stress > most_stress)
+    throw InputError(where + ": column '" + data.columns[*stress_col] + "' peaks at " +
+                     number(largest_stress / stress_scale) + (stress_suffixed ? " kPa" : " Pa") + ", above 10 MPa" +
+                     (stress_suffixed ? ": if the column is in Pa, name it shear_stress"
+                                      : ": a simple-shear test on soil does not reach it"));
   return lab;
 }
 

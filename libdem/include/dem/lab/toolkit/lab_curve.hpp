@@ -63,7 +63,9 @@ struct LabCurve {
 /// Reads a lab curve. InputError naming the file (and line and column where there is one) for:
 /// a missing file, an empty file or one without data rows, a missing required column, two
 /// columns for the same quantity (e.g. shear_stress and shear_stress_kPa), a cell that is not a
-/// finite number (NaN, inf, text), a negative strain or one not greater than the previous row's.
+/// finite number (NaN, inf, text), a negative strain or one not greater than the previous row's,
+/// and values whose size says the unit in the header is wrong: a strain beyond 1 (100 %), a peak
+/// shear stress below 1 kPa in a Pa column or above 10 MPa in either column.
 LabCurve read_lab_curve(const std::filesystem::path& file, const LabCurveOptions& options = {});
 
 /// A model curve sampled along the shear (SI).
