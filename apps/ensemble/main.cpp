@@ -17,6 +17,7 @@
 #include <vector>
 
 #include <dem/core/errors.hpp>
+#include <dem/io/folder_lock.hpp>
 
 #include "cli/simple_shear_run.hpp"
 #include "cli/task_farm.hpp"
@@ -144,9 +145,17 @@ std::optional<EnsembleCommandLine> parse(int argc, char** argv) {
 // Seed `seed`'s run, to its end or its error; the line says which.
 std::string run_seed(const EnsembleCommandLine& cli, long seed, int rank) {
   const fs::path folder = cli.out / ("seed_" + std::to_string(seed));
+  fs::create_directories(folder);
+  // The seed's folder is this ensemble's before anything in it is read or written: a second
+  // ensemble into the same folder leaves a running seed's run.log and results alone.
+  std::optional<dem::io::FolderLock> seed_lock;
+  try {
+    seed_lock.emplace(folder, ".ensemble.lock", "dem-ensemble");
+  } catch (const dem::InputError& e) {
+    return std::string("failed: ") + e.what();
+  }
   if (fs::exists(folder / "summary.json")) return "done already (" + folder.string() + ")";
   const bool resume = fs::exists(folder / "restart.restart");
-  fs::create_directories(folder);
   std::ofstream log(folder / "run.log", resume ? std::ios::app : std::ios::trunc);
   std::cout << ("seed " + std::to_string(seed) + ": running on rank " + std::to_string(rank) + ", log in " +
                 (folder / "run.log").string() + "\n")

@@ -387,6 +387,36 @@ def output_folders(program, work, a):
             fail(f"the first run into {busy} failed after the second was refused (exit {first.returncode})")
     print("a second run into a busy folder stopped at once; the first finished", flush=True)
 
+    # Two ensembles into one folder: the second finds the running seed's folder locked and leaves
+    # its run.log and results alone.
+    ensemble = os.path.join(os.path.dirname(program), "dem-ensemble")
+    if not os.access(ensemble, os.X_OK):
+        print("dem-ensemble not built: its busy seed folder not checked", flush=True)
+        return
+    shared = os.path.join(out, "ensemble")
+    seed_log = os.path.join(shared, "seed_1", "run.log")
+    with open(os.path.join(out, "ensemble-first.log"), "w") as log:
+        first = subprocess.Popen([ensemble, "--seeds", "1", "--out", shared, "--"] + SPECIMEN, stdout=log,
+                                 stderr=subprocess.STDOUT)
+        start = time.monotonic()
+        while not os.path.exists(os.path.join(shared, "seed_1", "restart.restart")):
+            if first.poll() is not None or time.monotonic() - start > RUN_TIMEOUT:
+                fail(f"the first ensemble into {shared} ended (exit {first.poll()}) before writing a restart file")
+            time.sleep(0.003)
+        log_start = read(seed_log)[:200]
+        second = subprocess.run([ensemble, "--seeds", "1", "--out", shared, "--"] + SPECIMEN, capture_output=True,
+                                text=True, timeout=RUN_TIMEOUT)
+        if second.returncode != 1 or "in use by another run (pid " + str(first.pid) not in second.stdout:
+            fail(f"a second ensemble into a busy seed folder: expected exit 1 naming pid {first.pid}, got exit "
+                 f"{second.returncode}: {second.stdout.strip()!r} {second.stderr.strip()!r}")
+        if read(seed_log)[:200] != log_start:
+            fail("a second ensemble rewrote the running seed's run.log")
+        if first.wait(timeout=RUN_TIMEOUT) != 0:
+            fail(f"the first ensemble failed after the second was refused (exit {first.returncode})")
+        if b"in use by another run" in read(seed_log):
+            fail("the second ensemble wrote into the running seed's run.log")
+    print("a second ensemble into a busy seed folder left it alone; the first finished", flush=True)
+
 
 def main():
     if len(sys.argv) not in (3, 4):

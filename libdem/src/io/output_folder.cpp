@@ -18,24 +18,6 @@ namespace dem::io {
 
 namespace {
 
-std::string read_all(int fd) {
-  std::string text;
-  char buffer[512];
-  ::lseek(fd, 0, SEEK_SET);
-  for (ssize_t n; (n = ::read(fd, buffer, sizeof buffer)) > 0;) text.append(buffer, static_cast<std::size_t>(n));
-  while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
-  return text;
-}
-
-std::string now_utc() {
-  const std::time_t t = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char text[32];
-  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return text;
-}
-
 // "<name>.tmp.<pid>" of a process that no longer runs: what write_atomically leaves when killed.
 // Only the temporaries of files a run writes are ones: <name> one of the run's files, or a restart
 // file; a user's own "notes.tmp.12" is not.
@@ -100,28 +82,14 @@ OutputFolder::OutputFolder(fs::path folder, const OutputFolderPolicy& policy) : 
   fs::create_directories(folder_, error);
   if (error) throw InputError(where + " cannot be created: " + error.message());
 
-  const fs::path lock_file = folder_ / ".lock";
-  lock_fd_ = ::open(lock_file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-  if (lock_fd_ < 0) throw InputError(where + " is not writable (" + std::strerror(errno) + ")");
-  if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
-    const std::string holder = read_all(lock_fd_);
-    ::close(lock_fd_);
-    lock_fd_ = -1;
-    throw InputError(where + " is in use by another run (" + (holder.empty() ? std::string("starting") : holder) +
-                     "): wait until it ends, or choose another folder");
-  }
-  const std::string holder = "pid " + std::to_string(::getpid()) + ", " + policy.program + ", started " + now_utc() + "\n";
-  const bool recorded = ::ftruncate(lock_fd_, 0) == 0 && ::lseek(lock_fd_, 0, SEEK_SET) == 0 &&
-                        ::write(lock_fd_, holder.data(), holder.size()) == static_cast<ssize_t>(holder.size());
+  lock_ = std::make_unique<FolderLock>(folder_, ".lock", policy.program);
 
   // The lock file may be writable where new files are not (an old lock in a read-only folder).
   const fs::path probe = folder_ / (".write-test." + std::to_string(::getpid()));
   const int probe_fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (probe_fd < 0 || !recorded) {
+  if (probe_fd < 0) {
     const std::string reason = std::strerror(errno);
-    if (probe_fd >= 0) ::close(probe_fd), fs::remove(probe, error);
-    ::close(lock_fd_);
-    lock_fd_ = -1;
+    lock_.reset();
     throw InputError(where + " is not writable (" + reason + ")");
   }
   ::close(probe_fd);
@@ -138,8 +106,7 @@ OutputFolder::OutputFolder(fs::path folder, const OutputFolderPolicy& policy) : 
     return;
   }
   if (!policy.replace) {
-    ::close(lock_fd_);
-    lock_fd_ = -1;
+    lock_.reset();
     throw InputError(where + " holds the results of another run (" + joined(found) + "): choose another folder, or " +
                      policy.replace_option + " to remove them first");
   }
@@ -151,8 +118,6 @@ OutputFolder::OutputFolder(fs::path folder, const OutputFolderPolicy& policy) : 
   leftovers_removed_ = remove_leftovers(folder_, policy.run_files);
 }
 
-OutputFolder::~OutputFolder() {
-  if (lock_fd_ >= 0) ::close(lock_fd_);  // releases the lock; the file stays, read only while locked
-}
+OutputFolder::~OutputFolder() = default;
 
 }  // namespace dem::io

@@ -15,8 +15,11 @@
 #pragma once
 
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
+
+#include <dem/io/folder_lock.hpp>
 
 namespace dem::io {
 
@@ -52,7 +55,7 @@ class OutputFolder {
 
  private:
   std::filesystem::path folder_;
-  int lock_fd_ = -1;
+  std::unique_ptr<FolderLock> lock_;  // ".lock" in the folder
   std::vector<std::string> replaced_;
   std::size_t leftovers_removed_ = 0;
 };
