@@ -292,6 +292,7 @@ def atomic_history(program, work, a, rng, shear_seconds, kills=8):
     """Each run restarts from the consolidated state and rewrites history.csv every ~10 steps."""
     out = os.path.join(work, "atomic")
     shutil.copytree(a, out)  # --from consolidated.restart keeps the history rows up to that point
+    os.remove(os.path.join(out, "final.restart"))  # as a run killed in its shear leaves the folder
     args = SPECIMEN + ["--set", "output.every_strain=0.0001", "--out", out,
                        "--from", os.path.join(out, "consolidated.restart")]
     history = os.path.join(out, "history.csv")
@@ -373,6 +374,16 @@ def output_folders(program, work, a):
     if read(os.path.join(other, "history.csv")) != read(os.path.join(a, "history.csv")):
         fail("--replace: the new shear of A's specimen must have A's history")
     print("--replace: the old run's files were removed and the new run's written", flush=True)
+
+    # A run that ended, run again from its consolidated specimen in its own folder: refused (two
+    # runs' files would stand side by side until it ends), the folder left as it was.
+    again = os.path.join(out, "again")
+    shutil.copytree(a, again)
+    before = {name: read(os.path.join(again, name)) for name in ("history.csv", "summary.json", "final.restart")}
+    refused(["--out", again, "--from", os.path.join(again, "consolidated.restart")], "holds a run that ended",
+            "a re-shear into the specimen's own folder")
+    if any(read(os.path.join(again, name)) != data for name, data in before.items()):
+        fail("a refused re-shear into its own folder changed its files")
 
     busy = os.path.join(out, "busy")
     with open(os.path.join(out, "busy.log"), "w") as log:

@@ -1,5 +1,6 @@
 #include <dem/lab/toolkit/run.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <ostream>
 #include <sstream>
@@ -58,6 +59,16 @@ Run::Run(std::unique_ptr<World> world, std::filesystem::path folder, RunFiles fi
 void Run::claim(const OutputOptions& options) {
   require(!folder_claim_, "the output folder " + folder_.string(), "claimed twice", "claimed once per run");
   const bool own = loaded() && same_folder(loaded_from_, folder_);
+  namespace fs = std::filesystem;
+  if (own) {
+    // A run that ended (final.restart) and is run again from an earlier restart file in its own
+    // folder would leave two runs' files side by side until the new one ends, or for good if it
+    // is stopped. Going on from final.restart itself (a longer shear) is the same run.
+    if (loaded_name_ != "final.restart" && fs::exists(folder_ / "final.restart"))
+      throw InputError("--from " + (folder_ / loaded_name_).string() + " into its own folder " + folder_.string() +
+                       ", which holds a run that ended (final.restart): run it again into another --out folder (the "
+                       "files up to " + loaded_name_ + " are carried there), or go on from final.restart");
+  }
   io::OutputFolderPolicy policy;
   policy.replace = options.replace;
   policy.continues_own_run = own;
@@ -70,6 +81,9 @@ void Run::claim(const OutputOptions& options) {
   if (folder_claim_->leftovers_removed() > 0)
     *log_ << "removed " << folder_claim_->leftovers_removed() << " temporary file(s) left by a killed run\n";
   if (loaded() && !own) copy_carried(loaded_from_, folder_, files_.carried);
+  // The summary of the session before is not this run's: until this one ends the folder has none.
+  if (own && std::find(files_.results.begin(), files_.results.end(), "summary.json") != files_.results.end())
+    fs::remove(folder_ / "summary.json");
   for (const auto& f : on_claim_) f();
 }
 
@@ -170,6 +184,7 @@ const ProtocolRecord& Run::load(const std::filesystem::path& file) {
   require(!loaded(), "loading a second restart file", file.string(), "one restart file per run");
   record_ = read_protocol_record(io::load_checkpoint(file, *world_), "restart file " + file.string());
   loaded_from_ = std::filesystem::absolute(file).parent_path();
+  loaded_name_ = file.filename().string();
   for (const Kept& k : kept_) restore(k);
   for (const auto& [key, points] : kept_points_)
     if (const auto it = record_.points.find(key); it != record_.points.end()) *points = it->second;

@@ -69,6 +69,9 @@ class Run {
   // --- the output folder --------------------------------------------------------------------
   /// Claims the folder (io/output_folder.hpp) and, after a load() from another folder, brings the
   /// carried files here. Once per run; the first stage that writes calls claim_if_needed().
+  /// Going on in the restart file's own folder removes the summary.json of the session before;
+  /// InputError for a run that ended (final.restart there) loaded from an earlier restart file:
+  /// that is a second run, for another folder.
   void claim(const OutputOptions& options = {});
   void claim_if_needed() {
     if (!folder_claim_) claim();
@@ -152,6 +155,7 @@ class Run {
   std::vector<std::pair<std::string, std::vector<Vec3>*>> kept_points_;
   std::vector<std::function<void()>> on_claim_, on_load_;
   std::filesystem::path loaded_from_;
+  std::string loaded_name_;  // the loaded restart file's name
   ProtocolRecord record_;
   std::vector<std::pair<std::string, std::string>> configuration_;
   io::Schema schema_;
