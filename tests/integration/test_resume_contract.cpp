@@ -199,6 +199,24 @@ TEST_CASE("resume: the next stage's keys and the outputs may change, and summary
   CHECK(changed.at("shear.mode").at("this_run").get<std::string>() == "constant-volume");
   CHECK(changed.at("output.every_strain").at("this_run").get<std::string>() == "0.0025");
   CHECK_THAT(log.str(), Contains("applied shear.mode = constant-volume (the restart file had drained)"));
+  // Which run it continues and where: the consolidated specimen's file and its last step.
+  const auto& from = summary.at("continued_from");
+  CHECK(fs::equivalent(from.at("restart_file").get<std::string>(), consolidated_specimen() / "consolidated.restart"));
+  // The specimen's history ends at its consolidated state (its cells may hold nan: read as text).
+  std::istringstream specimen_history(dem::testing::file_text(consolidated_specimen() / "history.csv"));
+  std::string header, line, last;
+  std::getline(specimen_history, header);
+  while (std::getline(specimen_history, line))
+    if (!line.empty()) last = line;
+  const auto cell = [](const std::string& row, std::size_t k) {
+    std::istringstream in(row);
+    std::string value;
+    for (std::size_t i = 0; i <= k; ++i) std::getline(in, value, ',');
+    return value;
+  };
+  std::size_t step_column = 0;
+  while (cell(header, step_column) != "step") ++step_column;
+  CHECK(std::to_string(from.at("step").get<std::int64_t>()) == cell(last, step_column));
 
   // Mid-shear the shear mode is part of what is done.
   REQUIRE(fs::exists(dir / "restart.restart"));

@@ -185,6 +185,7 @@ const ProtocolRecord& Run::load(const std::filesystem::path& file) {
   record_ = read_protocol_record(io::load_checkpoint(file, *world_), "restart file " + file.string());
   loaded_from_ = std::filesystem::absolute(file).parent_path();
   loaded_name_ = file.filename().string();
+  loaded_step_ = world_->step_count();
   for (const Kept& k : kept_) restore(k);
   for (const auto& [key, points] : kept_points_)
     if (const auto it = record_.points.find(key); it != record_.points.end()) *points = it->second;

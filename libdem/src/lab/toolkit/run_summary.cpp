@@ -18,6 +18,8 @@ void save_summary(const Run& run, io::Json& j, const std::string& resolved_confi
                         {"integration", t.integration}, {"communication", t.communication}, {"total", t.total()}};
   j["configuration"] = io::Json::parse(resolved_config_json);
   if (run.loaded()) {
+    // Which run this one continues, and from where: its rows up to that step came from there.
+    j["continued_from"] = {{"restart_file", run.loaded_file().string()}, {"step", run.loaded_step()}};
     io::Json changed;
     for (const auto& [key, before, after] : run.changes()) {
       io::Json c;

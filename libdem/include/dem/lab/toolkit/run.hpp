@@ -113,6 +113,9 @@ class Run {
   bool loaded() const { return !loaded_from_.empty(); }
   /// The folder of the loaded restart file (empty: none).
   const std::filesystem::path& loaded_folder() const { return loaded_from_; }
+  /// The loaded restart file (absolute; empty: none) and the World's step count in it.
+  std::filesystem::path loaded_file() const { return loaded() ? loaded_from_ / loaded_name_ : std::filesystem::path(); }
+  std::int64_t loaded_step() const { return loaded_step_; }
   const ProtocolRecord& loaded_record() const { return record_; }
   /// Runs `f` at the end of load(), after every kept value is restored.
   void on_load(std::function<void()> f) { on_load_.push_back(std::move(f)); }
@@ -156,6 +159,7 @@ class Run {
   std::vector<std::function<void()>> on_claim_, on_load_;
   std::filesystem::path loaded_from_;
   std::string loaded_name_;  // the loaded restart file's name
+  std::int64_t loaded_step_ = 0;
   ProtocolRecord record_;
   std::vector<std::pair<std::string, std::string>> configuration_;
   io::Schema schema_;
