@@ -17,8 +17,10 @@
 // S = 1 - h_zz / h0_zz. The dem-bench law (rrlinear: kn = kt = 7e4 N/m, mu 0.5, mu_r 0.17,
 // kr = kt Reff^2, mass-proportional dashpots gamma_n m_eff on both springs), its time step and
 // dashpot rate for the grading (bench_system.hpp); no gravity, no local damping, the cell never
-// re-mapped (LAMMPS's `flip no`). Prints the parameters as 'key: value' lines, then --rows + 1
-// rows of the cell stress (the contact part of measure::cell_stress, compression positive, Pa).
+// re-mapped (LAMMPS's `flip no`); --friction, --rolling-friction and --damping-rate (gamma_n,
+// 0: no dashpots) replace the law's values. Prints the parameters as 'key: value' lines, then
+// --rows + 1 rows of the cell stress (the contact part of measure::cell_stress, compression
+// positive, Pa).
 //
 // Step alignment: libdem's step k computes the forces from the positions at (k - 1) dt, LAMMPS's
 // step k from those at k dt (velocity Verlet, velocities half a step behind in both), so a row
