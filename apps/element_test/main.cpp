@@ -1,5 +1,5 @@
 // dem-element-test: element tests in a periodic cell (lab/protocols/element_test.hpp): a specimen
-// of a preset's balls compressed isotropically by the cell, then a triaxial or simple-shear path
+// of a preset's balls compressed isotropically by the cell, then a triaxial, simple-shear or cyclic simple-shear path
 // by the cell's velocity gradient; resumable from its restart files (--from).
 #include <exception>
 #include <iostream>
@@ -44,7 +44,7 @@ int main(int argc, char** argv) {
     const po::variables_map vm = dem::cli::parse_options(argc, argv, opts);
     const dem::io::Schema schema = dem::lab::element_test_schema();
     if (vm.count("help")) {
-      std::cout << "dem-element-test: element tests (isotropic, triaxial, simple shear) in a periodic cell\n\nUsage: dem-element-test "
+      std::cout << "dem-element-test: element tests (isotropic, triaxial, simple shear, cyclic simple shear) in a periodic cell\n\nUsage: dem-element-test "
                 << "[--preset 1D|2D|4D] [--config FILE] [--set key=value ...] [--out DIR] [--from FILE] [--replace]\n\n"
                 << opts << "\nConfiguration keys (SI units; file sections are the part before the dot):\n" << schema.help_text();
       return 0;

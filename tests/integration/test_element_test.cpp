@@ -1,12 +1,15 @@
 // Element tests in a periodic cell (lab/protocols/element_test.hpp) on a small specimen of the 4D
 // material: the isotropic compression ends at the target with equal principal stresses, a drained
 // triaxial path holds sigma_3, the constant-volume paths keep the cell's volume, a run killed in
-// either stage resumes to the same history byte for byte, and bad keys are refused by name.
+// either stage resumes to the same history byte for byte, a cyclic simple shear follows its
+// strain or stress path at constant volume, and bad keys are refused by name.
 #include <catch2/catch.hpp>
 
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
+#include <numbers>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -181,6 +184,93 @@ TEST_CASE("element test: the constant-volume paths keep the cell's volume to 1e-
   }
 }
 
+// A cyclic simple shear of 200 balls: rows of history.csv, loading rows only (stage 1).
+io::CsvData cyclic_rows(const io::Config& keys, const fs::path& dir) {
+  run_to_end(keys, dir);
+  io::CsvData rows = io::read_csv(dir / "history.csv");
+  REQUIRE(rows.rows.size() >= 40);
+  return rows;
+}
+
+io::Config cyclic_keys(const std::string& control, const std::string& path) {
+  io::Config keys = small_keys("cyclic-simple-shear");
+  keys.set("element.cyclic_control", control);
+  keys.set("element.cyclic_path", path);
+  keys.set("element.cycles", "1");
+  keys.set("element.strain_amplitude", "0.002");
+  keys.set("element.csr", "0.05");
+  return keys;
+}
+
+TEST_CASE("element test: a strain-controlled cyclic simple shear follows its path at constant volume and resumes exactly",
+          "[element-test][periodic][resume]") {
+  const double amplitude = 0.002;
+  const io::Config keys = cyclic_keys("strain", "sine");
+  const fs::path whole = fresh_dir("cyclic_sine");
+  const io::CsvData rows = cyclic_rows(keys, whole);
+  double largest = 0.0, smallest = 0.0;
+  for (const auto& r : rows.rows) {
+    const double cycles = r[rows.column("cycles")], strain = r[rows.column("shear_strain")];
+    INFO("cycles " << cycles);
+    // The path a sin(2 pi N), met at every row (the rate of each step lands the strain on it).
+    CHECK(std::abs(strain - amplitude * std::sin(2.0 * std::numbers::pi * cycles)) <= 1e-6 * amplitude);
+    CHECK(std::abs(r[rows.column("shear_strain_yz")]) <= 1e-12);
+    CHECK(std::abs(r[rows.column("volumetric_strain")]) <= 1e-9);  // every normal rate zero
+    largest = std::max(largest, strain), smallest = std::min(smallest, strain);
+  }
+  // Rows every 1/40 cycle, two of them at the peaks: the amplitude within 2 % either way.
+  CHECK(std::abs(largest - amplitude) <= 0.02 * amplitude);
+  CHECK(std::abs(smallest + amplitude) <= 0.02 * amplitude);
+  CHECK(rows.rows.back()[rows.column("cycles")] >= 1.0);
+  // The packing resists: positive shear stress at the first peak, negative at the second.
+  const auto at_cycles = [&](double n) {
+    std::size_t best = 0;
+    for (std::size_t k = 0; k < rows.rows.size(); ++k)
+      if (std::abs(rows.rows[k][rows.column("cycles")] - n) < std::abs(rows.rows[best][rows.column("cycles")] - n)) best = k;
+    return rows.rows[best][rows.column("shear_stress")];
+  };
+  CHECK(at_cycles(0.25) > 0.02 * 100e3);
+  CHECK(at_cycles(0.75) < -0.02 * 100e3);
+
+  // Killed in the middle of the cycle, resumed from restart.restart: the same history.
+  const auto middle = static_cast<std::int64_t>(rows.rows[rows.rows.size() / 2][rows.column("step")]);
+  const fs::path dir = fresh_dir("cyclic_sine_resumed");
+  CHECK_THROWS_WITH(run_to_end(keys, dir, {}, middle + 3), Contains("stopped"));
+  run_to_end(keys, dir, dir / "restart.restart");
+  CHECK(testing::file_text(dir / "history.csv") == testing::file_text(whole / "history.csv"));
+}
+
+TEST_CASE("element test: a circular strain path keeps its radius, a stress-controlled cycle its amplitude", "[element-test][periodic]") {
+  SECTION("strain, circle") {
+    const double amplitude = 0.002;
+    const io::CsvData rows = cyclic_rows(cyclic_keys("strain", "circle"), fresh_dir("cyclic_circle"));
+    int counted = 0;
+    for (const auto& r : rows.rows) {
+      const double cycles = r[rows.column("cycles")];
+      CHECK(std::abs(r[rows.column("volumetric_strain")]) <= 1e-9);
+      if (cycles < 0.25) continue;  // the path's ramp
+      const double radius = std::hypot(r[rows.column("shear_strain")], r[rows.column("shear_strain_yz")]);
+      INFO("cycles " << cycles);
+      CHECK(std::abs(radius - amplitude) <= 0.02 * amplitude);
+      ++counted;
+    }
+    CHECK(counted >= 30);
+  }
+  SECTION("stress, sine") {
+    const double amplitude = 0.05 * 100e3;  // Pa, csr x confining stress
+    const io::CsvData rows = cyclic_rows(cyclic_keys("stress", "sine"), fresh_dir("cyclic_stress"));
+    double largest = 0.0, smallest = 0.0;
+    for (const auto& r : rows.rows) {
+      CHECK(std::abs(r[rows.column("volumetric_strain")]) <= 1e-9);
+      if (r[rows.column("stage")] < 1) continue;
+      largest = std::max(largest, r[rows.column("shear_stress")]);
+      smallest = std::min(smallest, r[rows.column("shear_stress")]);
+    }
+    CHECK(std::abs(largest - amplitude) <= 0.02 * amplitude);
+    CHECK(std::abs(smallest + amplitude) <= 0.02 * amplitude);
+  }
+}
+
 TEST_CASE("element test: bad keys are refused, naming the key", "[element-test]") {
   io::Config keys(element_test_schema());
   CHECK_THROWS_WITH(keys.set("element.test", "cyclic"), Contains("element.test") && Contains("triaxial-drained"));
@@ -190,6 +280,11 @@ TEST_CASE("element test: bad keys are refused, naming the key", "[element-test]"
   CHECK_THROWS_WITH(keys.set("element.inertial_number", "0"), Contains("element.inertial_number"));
   CHECK_THROWS_WITH(keys.set("element.initial_solid_fraction", "0.6"), Contains("element.initial_solid_fraction"));
   CHECK_THROWS_WITH(keys.set("element.bogus", "1"), Contains("element.bogus"));
+  CHECK_THROWS_WITH(keys.set("element.cyclic_path", "series"), Contains("element.cyclic_path") && Contains("figure8"));
+  CHECK_THROWS_WITH(keys.set("element.cyclic_control", "speed"), Contains("element.cyclic_control") && Contains("strain"));
+  CHECK_THROWS_WITH(keys.set("element.strain_amplitude", "0.8"), Contains("element.strain_amplitude"));
+  CHECK_THROWS_WITH(keys.set("element.csr", "0"), Contains("element.csr"));
+  CHECK_THROWS_WITH(keys.set("element.rows_per_cycle", "2"), Contains("element.rows_per_cycle"));
   keys.set("grading.d_min", "0.002");
   CHECK_THROWS_WITH(element_test_config(keys), Contains("grading.d_min"));
 }

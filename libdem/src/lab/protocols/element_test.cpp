@@ -33,7 +33,9 @@ PeriodicSpecimenSettings specimen_settings(const ElementTestConfig& c) {
           .max_steps = e.max_compaction_steps, .section = "element"};
 }
 
-bool simple_shear(ElementTestKind kind) { return kind == ElementTestKind::SimpleShear || kind == ElementTestKind::SimpleShearUndrained; }
+bool simple_shear(ElementTestKind kind) {
+  return kind == ElementTestKind::SimpleShear || kind == ElementTestKind::SimpleShearUndrained || kind == ElementTestKind::CyclicSimpleShear;
+}
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -48,6 +50,7 @@ std::string to_string(ElementTestKind kind) {
     case ElementTestKind::TriaxialUndrained: return "triaxial-undrained";
     case ElementTestKind::SimpleShear: return "simple-shear";
     case ElementTestKind::SimpleShearUndrained: return "simple-shear-undrained";
+    case ElementTestKind::CyclicSimpleShear: return "cyclic-simple-shear";
   }
   return "?";
 }
@@ -70,6 +73,7 @@ ElementTest::ElementTest(ElementTestConfig config, std::filesystem::path out_dir
   });
   for (std::size_t k = 0; k < reference_.size(); ++k) run_.keep("reference_cell_" + std::to_string(k), reference_[k]);
   run_.keep("next_row_strain", next_row_strain_);
+  run_.keep("loading_start_time", loading_start_time_);
   run_.keep("peak_ratio", peak_ratio_);
   run_.keep("peak_strain", peak_strain_);
   run_.keep("history_rows", [this] { return static_cast<double>(history_.rows()); },
@@ -84,6 +88,18 @@ double ElementTest::strain_rate() const {
   return e.inertial_number / diameter * std::sqrt(e.confining_stress / e.density);
 }
 
+double ElementTest::cyclic_period() const {
+  const double period = config_.element.cyclic_period;
+  return period > 0.0 ? period : 4.0 * 0.01 / strain_rate();
+}
+
+Vec3 ElementTest::cyclic_target(double time) const {
+  const ElementConfig& e = config_.element;
+  const CyclicPath path(e.cyclic_path, e.cyclic_direction_deg, e.cyclic_minor_ratio);
+  const double amplitude = e.cyclic_control == CyclicControl::Strain ? e.strain_amplitude : e.csr * e.confining_stress;
+  return amplitude * path.at(std::max(0.0, (time - loading_start_time_) / cyclic_period()));
+}
+
 Mat3 ElementTest::reference() const {
   Mat3 h;
   for (int k = 0; k < 9; ++k) h(k / 3, k % 3) = reference_[static_cast<std::size_t>(k)];
@@ -93,8 +109,19 @@ Mat3 ElementTest::reference() const {
 double ElementTest::test_strain() const {
   const Mat3 h = run_.world().periodic_cell()->matrix(), h0 = reference();
   if (config_.element.test == ElementTestKind::Isotropic) return 1.0 - h.determinant() / h0.determinant();
+  if (config_.element.test == ElementTestKind::CyclicSimpleShear) return (run_.world().time() - loading_start_time_) / cyclic_period();
   if (simple_shear(config_.element.test)) return measure::cell_strain(h0, h).deformation_gradient(0, 2);
   return 1.0 - h(2, 2) / h0(2, 2);
+}
+
+double ElementTest::row_spacing() const {
+  const ElementConfig& e = config_.element;
+  return e.test == ElementTestKind::CyclicSimpleShear ? 1.0 / static_cast<double>(e.rows_per_cycle) : e.every_strain;
+}
+
+double ElementTest::test_end() const {
+  const ElementConfig& e = config_.element;
+  return e.test == ElementTestKind::CyclicSimpleShear ? e.cycles : e.target_strain;
 }
 
 // The path of element.test on the servo: rates where prescribed, stresses where held.
@@ -122,6 +149,22 @@ void ElementTest::set_path() {
       else servo.set_rate(CellComponent::zz, 0.0);
       servo.set_rate(CellComponent::xz, rate);
       break;
+    case ElementTestKind::CyclicSimpleShear: {
+      for (CellComponent normal : {CellComponent::xx, CellComponent::yy, CellComponent::zz}) servo.set_rate(normal, 0.0);
+      const double dt = run_.world().time_step();
+      if (config_.element.cyclic_control == CyclicControl::Strain) {
+        // With every normal rate and L_xy zero, a step of L_xz (L_yz) adds dt L_xz (dt L_yz) to
+        // F_xz (F_yz) exactly (L h is then nilpotent): the rate of the step from t to t + dt that
+        // lands the strain on the path at t + dt, so it follows the path with no drift.
+        servo.set_rate_path(CellComponent::xz, [this, dt](double t) { return (cyclic_target(t + dt).x() - cyclic_target(t).x()) / dt; });
+        servo.set_rate_path(CellComponent::yz, [this, dt](double t) { return (cyclic_target(t + dt).y() - cyclic_target(t).y()) / dt; });
+      } else {
+        // tau = -sigma_xz (compression positive), the shear stress that resists a positive strain.
+        servo.set_stress_path(CellComponent::xz, [this](double t) { return -cyclic_target(t).x(); });
+        servo.set_stress_path(CellComponent::yz, [this](double t) { return -cyclic_target(t).y(); });
+      }
+      break;
+    }
   }
 }
 
@@ -149,7 +192,7 @@ void ElementTest::load_restart(const std::filesystem::path& file) {
 void ElementTest::record_row() {
   history_.record();
   const double strain = test_strain();
-  while (next_row_strain_ <= strain + 1e-12) next_row_strain_ += config_.element.every_strain;
+  while (next_row_strain_ <= strain + 1e-12) next_row_strain_ += row_spacing();
   if (stage_ != Stage::Loading) return;  // the peak of the loading path (a gas has none worth quoting)
   const double ratio = history_.last(simple_shear(config_.element.test) ? "shear_stress_ratio" : "stress_ratio");
   if (ratio > peak_ratio_) peak_ratio_ = ratio, peak_strain_ = strain;
@@ -160,6 +203,7 @@ void ElementTest::start_loading() {
   for (int k = 0; k < 9; ++k) reference_[static_cast<std::size_t>(k)] = h(k / 3, k % 3);
   next_row_strain_ = 0.0;
   peak_ratio_ = peak_strain_ = 0.0;
+  loading_start_time_ = run_.world().time();
   record_row();  // the test's strain 0
   run_.save(run_.folder() / "consolidated.restart");
   specimen_.use_material_law(true);
@@ -190,7 +234,7 @@ void ElementTest::run() {
     }
   }
   if (stage_ == Stage::Loading) {
-    const double target = config_.element.target_strain;
+    const double target = test_end();
     double strain = test_strain();
     while (strain < target) {
       w.step(loading_chunk_steps);
@@ -235,6 +279,10 @@ void ElementTest::add_columns() {
   h.add("axial_strain", [row] { return -row->strain.small_strain(2, 2); });
   h.add("volumetric_strain", [row] { return 1.0 - row->strain.deformation_gradient.determinant(); });
   h.add("shear_strain", [row] { return row->strain.deformation_gradient(0, 2); });
+  if (config_.element.test == ElementTestKind::CyclicSimpleShear) {  // the other paths' columns stay as they were
+    h.add("cycles", [this] { return stage_ == Stage::Specimen ? 0.0 : test_strain(); });
+    h.add("shear_strain_yz", [row] { return row->strain.deformation_gradient(1, 2); });
+  }
   h.add("mean_stress", p);
   h.add("deviator_stress", q);
   h.add("stress_ratio", [p, q] { return p() > 0.0 ? q() / p() : 0.0; });
@@ -255,7 +303,9 @@ void ElementTest::write_summary(const std::string& resolved_config_json) const {
   j["test"] = to_string(config_.element.test);
   j["balls"] = run_.world().particles().size();
   j["strain_rate_per_s"] = config_.element.test == ElementTestKind::Isotropic ? 0.0 : strain_rate();
-  j["peak"] = {{simple_shear(config_.element.test) ? "shear_stress_ratio" : "stress_ratio", peak_ratio_}, {"strain", peak_strain_}};
+  j["peak"] = {{simple_shear(config_.element.test) ? "shear_stress_ratio" : "stress_ratio", peak_ratio_},
+               {config_.element.test == ElementTestKind::CyclicSimpleShear ? "cycles" : "strain", peak_strain_}};
+  if (config_.element.test == ElementTestKind::CyclicSimpleShear) j["cyclic_period_s"] = cyclic_period();
   if (history_.rows() > 0) {
     io::Json f;
     for (const char* name : {"axial_strain", "volumetric_strain", "shear_strain", "mean_stress", "deviator_stress", "stress_ratio",

@@ -28,10 +28,11 @@ const io::BindingTable<ElementConfig>& element_keys() {
   const FixedAfter compressed = fixed_after(P::Consolidating, "the isotropic compression ran with it");
   const FixedAfter loaded = fixed_after(P::Shearing, "the loading so far ran with it");
   static const io::BindingTable<S> table = {
-      {"test", io::enum_choice({"isotropic", "triaxial-drained", "triaxial-undrained", "simple-shear", "simple-shear-undrained"}, &S::test), "-",
+      {"test", io::enum_choice({"isotropic", "triaxial-drained", "triaxial-undrained", "simple-shear", "simple-shear-undrained", "cyclic-simple-shear"}, &S::test), "-",
        "the loading path: isotropic (the compression to confining_stress is the test), triaxial-drained (zz shortened, xx yy hold "
        "confining_stress), triaxial-undrained (zz shortened at constant volume), simple-shear (L_xz, zz holds confining_stress), "
-       "simple-shear-undrained (L_xz at constant volume); a compressed specimen (consolidated.restart) may be loaded along another",
+       "simple-shear-undrained (L_xz at constant volume), cyclic-simple-shear (constant volume, the shear strains or stresses along "
+       "cyclic_path); a compressed specimen (consolidated.restart) may be loaded along another",
        {}, {}, false, loaded},
       {"confining_stress", &S::confining_stress, "Pa", "isotropic stress the specimen is compressed to, then held where the path holds a stress", 0.0, 1e9, true, compressed},
       {"target_strain", &S::target_strain, "-", "axial (triaxial) or shear (simple shear, at most 0.5) strain that ends the test", 0.0, 0.5, true, FixedAfter::never()},
@@ -47,6 +48,17 @@ const io::BindingTable<ElementConfig>& element_keys() {
       {"equilibrium_ratio", &S::equilibrium_ratio, "-", "unbalanced force ratio that ends the compression", 0.0, 1.0, true, compressed},
       {"servo_max_rate", &S::servo_max_rate, "1/s", "cap on the cell servo's rates", 0.0, 1e4, true, compressed},
       {"max_compaction_steps", &S::max_compaction_steps, "-", "steps after which the compression ends with a warning", 1.0, 1e12, false, compressed},
+      {"cyclic_control", io::enum_choice({"stress", "strain"}, &S::cyclic_control), "-",
+       "cyclic-simple-shear: strain (F_xz, F_yz follow the path) or stress (the shear stresses follow it, held by the servo)", {}, {}, false, loaded},
+      {"cyclic_path", io::enum_choice({"sine", "circle", "ellipse", "figure8"}, &S::cyclic_path), "-",
+       "cyclic-simple-shear: the cyclic app's path shape (docs/cyclic-shear.md), in the xz-yz shear plane", {}, {}, false, loaded},
+      {"strain_amplitude", &S::strain_amplitude, "-", "cyclic-simple-shear, strain control: amplitude of the shear strain", 0.0, 0.5, true, loaded},
+      {"csr", &S::csr, "-", "cyclic-simple-shear, stress control: shear stress amplitude / confining_stress", 0.0, 2.0, true, loaded},
+      {"cyclic_direction_deg", &S::cyclic_direction_deg, "deg", "direction of the sine, the ellipse's major axis, the figure-8's long axis, from x towards y", -360.0, 360.0, false, loaded},
+      {"cyclic_minor_ratio", &S::cyclic_minor_ratio, "-", "ellipse minor / major axis; figure-8 transverse amplitude / amplitude", 0.0, 10.0, false, loaded},
+      {"cyclic_period", &S::cyclic_period, "s", "duration of one cycle; 0: 4 x 0.01 / the strain rate (the cyclic app's rule)", 0.0, 1e4, false, loaded},
+      {"cycles", &S::cycles, "-", "cycles that end cyclic-simple-shear", 0.0, 1e5, true, FixedAfter::never()},
+      {"rows_per_cycle", &S::rows_per_cycle, "-", "history rows per cycle of cyclic-simple-shear", 4.0, 1e4, false, loaded},
   };
   return table;
 }

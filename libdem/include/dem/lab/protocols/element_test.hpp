@@ -9,6 +9,9 @@
 //                         hold_volume: constant volume, the lateral strains equal
 //   simple-shear          L_xz at the shear rate; zz holds the confining stress, xx yy fixed
 //   simple-shear-undrained  L_xz at the shear rate; every normal rate zero: constant volume
+//   cyclic-simple-shear   every normal rate zero (constant volume); the shear strains F_xz, F_yz
+//                         (strain control) or the shear stresses (stress control) follow one of
+//                         the cyclic app's paths (lab/toolkit/cyclic_path.hpp) for element.cycles
 //
 // Stresses are the cell stress (measure/cell_stress.hpp), compression positive: p the mean of the
 // normal stresses, q = sigma_zz - (sigma_xx + sigma_yy) / 2 (the triaxial app's), the shear stress
@@ -17,7 +20,7 @@
 // F_xz of F = h h0^-1.
 //
 // Outputs in the run's folder: history.csv (a row every element.every_strain of the test's strain:
-// volumetric, axial or shear), summary.json (peak q/p, the end state), restart files in every
+// volumetric, axial or shear; element.rows_per_cycle a cycle in the cyclic test), summary.json (peak q/p, the end state), restart files in every
 // stage (restart.restart, consolidated.restart, final.restart), from which a run resumes exactly.
 // Keys: element_test_schema(); `dem-element-test --help` lists them.
 #pragma once
@@ -30,7 +33,9 @@
 #include <vector>
 
 #include <dem/io/config.hpp>
+#include <dem/lab/protocols/cyclic_shear_config.hpp>
 #include <dem/lab/toolkit/contact_config.hpp>
+#include <dem/lab/toolkit/cyclic_path.hpp>
 #include <dem/lab/toolkit/grading.hpp>
 #include <dem/lab/toolkit/history_log.hpp>
 #include <dem/lab/toolkit/periodic_specimen.hpp>
@@ -39,7 +44,9 @@
 
 namespace dem::lab {
 
-enum class ElementTestKind { Isotropic = 0, TriaxialDrained = 1, TriaxialUndrained = 2, SimpleShear = 3, SimpleShearUndrained = 4 };
+enum class ElementTestKind {
+  Isotropic = 0, TriaxialDrained = 1, TriaxialUndrained = 2, SimpleShear = 3, SimpleShearUndrained = 4, CyclicSimpleShear = 5
+};
 /// The key's word for `kind` ("triaxial-drained").
 std::string to_string(ElementTestKind kind);
 
@@ -60,6 +67,16 @@ struct ElementConfig {
   double equilibrium_ratio = 1e-2;      // -, unbalanced force ratio that ends it
   double servo_max_rate = 10.0;         // 1/s, cap of the servo's rates
   long max_compaction_steps = 400000;
+  // The cyclic simple shear (test = cyclic-simple-shear), keys named as the cyclic app's.
+  CyclicControl cyclic_control = CyclicControl::Strain;  // the shear strains or the shear stresses follow the path
+  CyclicShape cyclic_path = CyclicShape::Sine;           // sine, circle, ellipse or figure8
+  double strain_amplitude = 0.001;   // -, of F_xz (and F_yz), strain control
+  double csr = 0.1;                  // -, shear stress amplitude / confining_stress, stress control
+  double cyclic_direction_deg = 0.0; // deg, of the sine, the ellipse's major axis, the figure-8's long axis
+  double cyclic_minor_ratio = 0.5;   // -, ellipse minor / major axis; figure-8 transverse amplitude / amplitude
+  double cyclic_period = 0.0;        // s, one cycle; 0: 4 x 0.01 / the strain rate (the cyclic app's rule)
+  double cycles = 2.0;               // -, cycles that end the test
+  long rows_per_cycle = 40;          // -, history rows per cycle
   bool operator==(const ElementConfig&) const = default;
 };
 
@@ -94,12 +111,18 @@ class ElementTest {
   const HistoryLog& history() const { return history_; }
   /// 1/s, the loading's axial or shear rate (element.strain_rate, or from the inertial number).
   double strain_rate() const;
+  /// s, one cycle of the cyclic test (element.cyclic_period, or 4 x 0.01 / strain_rate()).
+  double cyclic_period() const;
 
  private:
   enum class Stage : int { Specimen = 0, Loading = 1, Done = 2 };
   void start_loading();
   void set_path();
-  double test_strain() const;  // -, the one every_strain and target_strain count
+  double test_strain() const;  // -, the one every_strain and target_strain count (cycles when cyclic)
+  double row_spacing() const;  // of test_strain() between rows
+  double test_end() const;     // test_strain() that ends the loading
+  /// The cyclic path's target at time t (s): F_xz, F_yz (strain control) or tau_xz, tau_yz (Pa).
+  Vec3 cyclic_target(double time) const;
   void record_row();
   void add_columns();
   Mat3 reference() const;
@@ -111,6 +134,7 @@ class ElementTest {
   Stage stage_ = Stage::Specimen;
   std::array<double, 9> reference_{};  // m, the cell the strains count from (row-major)
   double next_row_strain_ = 0.0;
+  double loading_start_time_ = 0.0;  // s, the World's time when the loading began (the cycles count from it)
   double peak_ratio_ = 0.0, peak_strain_ = 0.0;  // q/p (|tau|/sigma_zz in simple shear), the test's strain
 };
 
