@@ -19,6 +19,8 @@
 // Outputs in the run's folder: history.csv (a row every element.every_strain of the test's strain:
 // volumetric, axial or shear), summary.json (peak q/p, the end state), restart files in every
 // stage (restart.restart, consolidated.restart, final.restart), from which a run resumes exactly.
+// With cementation.after (docs/cementation.md), bonds are installed once the specimen is placed or
+// once it is compressed (after consolidated.restart is written), and history.csv counts them.
 // Keys: element_test_schema(); `dem-element-test --help` lists them.
 #pragma once
 
@@ -30,6 +32,7 @@
 #include <vector>
 
 #include <dem/io/config.hpp>
+#include <dem/lab/toolkit/cementation.hpp>
 #include <dem/lab/toolkit/contact_config.hpp>
 #include <dem/lab/toolkit/grading.hpp>
 #include <dem/lab/toolkit/history_log.hpp>
@@ -68,6 +71,7 @@ struct ElementTestConfig {
   ContactTypeConfig ball_ball = SimpleShearConfig{}.ball_ball;
   EngineConfig engine;
   ElementConfig element;
+  CementationConfig cementation;  // bonds between close balls (docs/cementation.md)
   OutputConfig output;  // restart_every_steps and progress_seconds are read
   bool operator==(const ElementTestConfig&) const = default;
 };
@@ -101,6 +105,8 @@ class ElementTest {
   void set_path();
   double test_strain() const;  // -, the one every_strain and target_strain count
   void record_row();
+  /// Bonds the close pairs now (cementation.*, strengths keyed by element.seed).
+  void cement_now();
   void add_columns();
   Mat3 reference() const;
 
