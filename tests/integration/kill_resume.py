@@ -135,6 +135,11 @@ def world_fields(state):
         take("cell", 24 + 2 * 72 + 3 + 1 + 72)  # origin, h, L, axes, re-map flag, h at rebuild
         array("ball_ball.image", 1)
         array("ball_pebble.image", 1)
+    for name, size in (("first", 4), ("second", 4), ("radius", 8), ("normal_stiffness", 8),  # format 4: bonds
+                       ("shear_stiffness", 8), ("tensile_strength", 8), ("cohesion", 8), ("friction_angle", 8),
+                       ("normal_force", 8), ("shear_force", 24), ("twist_moment", 8), ("bend_moment", 24),
+                       ("status", 1)):
+        array("bonds." + name, size)
     if at != len(state):
         fail(f"final.restart: {len(state) - at} bytes after the last World field: "
              "kill_resume.py's layout is out of date")

@@ -252,8 +252,8 @@ std::size_t clump_count_at(std::size_t n) { return particle_id_count_at(n) + 3 *
 
 /// Bytes after the rebuild record (format 2): per wall its surface (shape byte, point, axis,
 /// radius), then an empty ball-surface contact list (eleven array counts, State size and count);
-/// then (format 3) the periodic cell's flag, 0 here.
-std::size_t surface_section_bytes(const World& world) { return world.walls().size() * 57 + 13 * 8 + 1; }
+/// then (format 3) the periodic cell's flag, 0 here; then (format 4) no bonds (thirteen array counts).
+std::size_t surface_section_bytes(const World& world) { return world.walls().size() * 57 + 13 * 8 + 1 + 13 * 8; }
 
 template <class T>
 T read_at(const std::string& bytes, std::size_t at) {

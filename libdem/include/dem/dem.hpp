@@ -8,6 +8,7 @@
 #include <dem/boundary/wall.hpp>
 #include <dem/contact/contact_law.hpp>
 #include <dem/contact/linear_law.hpp>
+#include <dem/contact/parallel_bond.hpp>
 #include <dem/control/cell_servo.hpp>
 #include <dem/control/servo_wall.hpp>
 #include <dem/core/contact_loops.hpp>  // make_contact_model for a law of your own

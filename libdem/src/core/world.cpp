@@ -233,6 +233,8 @@ void World::restore(WorldState state) {
             std::to_string(state.walls.size()) + " walls, " + std::to_string(state.clumps.size()) + " clumps",
             "none: they are not supported in a periodic cell yet");
   }
+  require(state.bonds.empty() || ranks() <= 1, "restored bonds in a World spread over processes",
+          std::to_string(ranks()) + " processes", "one process: bonds do not cross subdomains yet");
   state_ = std::move(state);
   pebble_layout_stale_ = true;
   pair_records_current_ = true;  // a restart file holds the records of its last step

@@ -18,6 +18,8 @@ void World::spread_over(std::shared_ptr<parallel::DomainComm> comm) {
     domains_.reset();
     return;
   }
+  require(state_.bonds.empty(), "a World with bonds spread over processes", std::to_string(comm->ranks()) + " processes",
+          "one process: bonds do not cross subdomains yet");
   require(!state_.cell, "a World with a periodic cell spread over processes", std::to_string(comm->ranks()) + " processes",
           "one process: the subdomains do not wrap across the cell's faces yet");
   domains_ = std::make_shared<parallel::Subdomains>(std::move(comm));

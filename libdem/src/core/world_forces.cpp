@@ -101,6 +101,7 @@ void World::compute_forces(bool record_pair_forces) {
     contacts.for_each_wall_set([&](const WallContacts& wc) {
       detail::add_wall_contacts(wc, 0, static_cast<std::int64_t>(wc.size()), p.f.data(), p.t.data(), state_.walls);
     });
+  if (!state_.bonds.empty()) compute_bond_forces();  // after every contact law (world_bonds.cpp)
   pair_records_current_ = record_pair_forces;
   check_stability(global_worst(worst));
   time_into(timing_.force_sums);

@@ -166,6 +166,15 @@ double World::critical_time_step() const {
       }
     }
   });
+  // Each intact bond's stiffness on its balls (ParallelBondLaw::stiffness), as a contact's.
+  const BondStore& bonds = state_.bonds;
+  for (std::size_t k = 0; k < bonds.size(); ++k) {
+    if (!bonds.intact(k)) continue;
+    const ContactStiffness s = ParallelBondLaw::stiffness(bonds.params(k));
+    const std::size_t i = p.index_of(bonds.first[k]), j = p.index_of(bonds.second[k]);
+    add(i, s, p.radius[i]);
+    add(j, s, p.radius[j]);
+  }
 
   double dt = std::numeric_limits<double>::infinity();
   double smallest = std::numeric_limits<double>::infinity();

@@ -178,6 +178,13 @@ void write_world_state(std::ostream& out, const World& world) {
     w.vec(contacts.ball_ball.image);
     w.vec(contacts.ball_pebble.image);
   }
+  // Since format 4: the bonds (world_state_bonds.cpp reads them).
+  const BondStore& b = state.bonds;
+  w.vec(b.first), w.vec(b.second);
+  w.vec(b.radius), w.vec(b.normal_stiffness), w.vec(b.shear_stiffness);
+  w.vec(b.tensile_strength), w.vec(b.cohesion), w.vec(b.friction_angle);
+  w.vec(b.normal_force), w.vec(b.shear_force), w.vec(b.twist_moment), w.vec(b.bend_moment);
+  w.vec(b.status);
   if (!out) throw std::runtime_error("checkpoint: writing the world state failed");
 }
 
@@ -254,6 +261,7 @@ void read_world_state(std::istream& in, World& world, std::uint32_t format) {
     c.ball_surface = read_wall_contacts(r, world.contact_model(ContactKind::BallFacet), p, s.walls, true);
   }
   if (format >= 3 && r.flag("periodic cell")) read_periodic_cell(r, s);
+  if (format >= 4) s.bonds = read_bonds(r, s.particles);
   world.restore(std::move(s));
 }
 

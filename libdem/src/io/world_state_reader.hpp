@@ -137,6 +137,8 @@ void read_surfaces(Reader& r, std::vector<Wall>& walls);
 /// Ball-wall contacts: with facets, or with the walls' analytic surfaces (`surfaces`).
 WallContacts read_wall_contacts(Reader& r, const ContactModel* model, const ParticleStore& p, const std::vector<Wall>& walls,
                                 bool surfaces);
+/// The bonds (format 4), checked against the particles `p` (world_state_bonds.cpp).
+BondStore read_bonds(Reader& r, const ParticleStore& p);
 /// Refuses incidence lists that are not those of the contact list `c`.
 void check_incidence(const PairContacts& c, std::size_t particles, const std::vector<std::int32_t>& offsets,
                      const std::vector<std::int32_t>& entries, const std::string& name);

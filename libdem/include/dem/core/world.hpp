@@ -10,6 +10,7 @@
 //      by the near skin;
 //   2. contact forces from the positions at t and the velocities at t - dt/2, summed per
 //      particle in contact order (results do not depend on the thread count);
+//      then the bonds' forces, one bond at a time in bond order (core/world_bonds.cpp);
 //   3. controllers run (servo walls, user protocols) and may change wall velocities;
 //   4. balls and clumps are integrated with local (non-viscous) damping; walls move;
 //   5. the instability checks run; every-N-steps callbacks run.
@@ -91,6 +92,16 @@ class World {
   /// as the run that wrote it. InputError for another law or for a kind without a law.
   void retune_contact_model(ContactKind kind, std::shared_ptr<const ContactModel> model);
   const ContactModel* contact_model(ContactKind kind) const { return models_[static_cast<std::size_t>(kind)].get(); }
+
+  // --- bonds (contact/bond_store.hpp, contact/parallel_bond.hpp) ------------------------------
+  /// Bonds balls `a` and `b` (stable ids, ParticleStore::id) with a linear parallel bond of
+  /// parameters `params` (validated), unloaded now; returns its index in bonds(). The bond acts
+  /// beside the pair's contact law, after it in every step, until it breaks. An automatic time
+  /// step is estimated again, bonds included, at the next step. InputError for a pebble, the same
+  /// ball twice, an id out of range, or a World spread over processes (bonds do not cross
+  /// subdomains yet).
+  std::size_t add_bond(ParticleId a, ParticleId b, const ParallelBondLaw::Params& params);
+  const BondStore& bonds() const { return state_.bonds; }
 
   // --- a periodic cell (boundary/periodic_cell.hpp) --------------------------------------------
   /// Puts the particles in a periodic cell: space is tiled with it, particles that leave it come
@@ -252,6 +263,8 @@ class World {
   void rebuild(bool resort);
   /// The contact forces of this step; `record_pair_forces`: the pair contacts' records too.
   void compute_forces(bool record_pair_forces);
+  /// The bonds' forces of this step, added after the contact laws' (world_bonds.cpp).
+  void compute_bond_forces();
   void integrate();
   /// Places every pebble where its clump puts it, each thread the pebbles stored in its range of
   /// the integration (the particles whose forces it mostly summed), after the clumps moved.

@@ -1,9 +1,9 @@
 // What a World is at a step, as plain data: the settings, the clock, the particles, clumps and
-// walls, the contact lists of each kind with their law history, and the broad phase's record of
-// the last rebuild. A restart file holds exactly this (io/world_state.hpp), so a run resumed from
-// it continues bit for bit. What is not here is code or derived data: contact models,
-// controllers, callbacks, the damping frame, the thread count, the cell grid, and the step's plan
-// (StepPlan: near lists, threads' shares; remade on the next step).
+// walls, the contact lists of each kind with their law history, the bonds, and the broad phase's
+// record of the last rebuild. A restart file holds exactly this (io/world_state.hpp), so a run
+// resumed from it continues bit for bit. What is not here is code or derived data: contact
+// models, controllers, callbacks, the damping frame, the thread count, the cell grid, and the
+// step's plan (StepPlan: near lists, threads' shares; remade on the next step).
 #pragma once
 
 #include <cstdint>
@@ -13,6 +13,7 @@
 #include <dem/boundary/clump.hpp>
 #include <dem/boundary/periodic_cell.hpp>
 #include <dem/boundary/wall.hpp>
+#include <dem/contact/bond_store.hpp>
 #include <dem/contact/contact_sets.hpp>
 #include <dem/core/particles.hpp>
 
@@ -114,6 +115,8 @@ struct WorldState {
   std::vector<Clump> clumps;
   std::vector<Wall> walls;
   WorldContacts contacts;
+  /// Bonds between balls (contact/bond_store.hpp): they outlive contacts, until they break.
+  BondStore bonds;
   RebuildRecord rebuild;
   /// The periodic cell the particles live in (World::set_periodic_cell); none: open space.
   std::optional<PeriodicCell> cell;

@@ -14,8 +14,9 @@ namespace dem::io {
 /// The layout write_world_state writes. 2 added the walls' analytic surfaces and their contacts
 /// at the end; 3 the periodic cell after them (a flag, then its origin, matrix, velocity gradient,
 /// periodic axes and tilt re-map flag, its matrix at the last rebuild, and the pair contacts'
-/// image codes). Layouts 1 and 2 (no cell) are still read.
-inline constexpr std::uint32_t world_state_format = 3;
+/// image codes); 4 the bonds after it (their ids, parameters, state and status, one array each).
+/// Layouts 1 and 2 (no cell) and 3 (no bonds) are still read.
+inline constexpr std::uint32_t world_state_format = 4;
 
 /// Writes the complete dynamic state of `world` (the law name of each contact kind, then its
 /// WorldState: clock, settings that shape the trajectory, particles, clumps, walls, contact lists

@@ -205,8 +205,9 @@ void ElementTest::start_loading() {
   peak_ratio_ = peak_strain_ = 0.0;
   loading_start_time_ = run_.world().time();
   record_row();  // the test's strain 0
-  run_.save(run_.folder() / "consolidated.restart");
+  run_.save(run_.folder() / "consolidated.restart");  // the plain specimen: cemented or not from it
   specimen_.use_material_law(true);
+  if (config_.cementation.after == CementAfter::Consolidation) cement_now();
   set_path();
   stage_ = Stage::Loading;
 }
@@ -219,6 +220,7 @@ void ElementTest::run() {
   if (stage_ == Stage::Specimen) {
     if (!specimen_.placed()) {
       specimen_.place();
+      if (config_.cementation.after == CementAfter::Generation) cement_now();
       const Mat3 h = w.periodic_cell()->matrix();
       for (int k = 0; k < 9; ++k) reference_[static_cast<std::size_t>(k)] = h(k / 3, k % 3);
       next_row_strain_ = 0.0;
@@ -254,6 +256,14 @@ void ElementTest::run() {
   run_.save(run_.folder() / "final.restart");
   run_.log() << to_string(config_.element.test) << " done at step " << w.step_count() << ": peak stress ratio " << peak_ratio_
              << " at strain " << peak_strain_ << "\n";
+}
+
+void ElementTest::cement_now() {
+  World& w = run_.world();
+  const std::size_t made = cement(w, bond_material(config_.cementation, config_.element.seed), config_.cementation.gap_ratio,
+                                  config_.cementation.fraction);
+  run_.log() << "cemented at step " << w.step_count() << ": " << made << " bonds ("
+             << 2.0 * static_cast<double>(made) / static_cast<double>(w.particles().size()) << " per ball)\n";
 }
 
 void ElementTest::add_columns() {
@@ -296,6 +306,10 @@ void ElementTest::add_columns() {
   const int index[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
   for (int k = 0; k < 6; ++k) h.add(names[k], [row, a = index[k][0], b = index[k][1]] { return row->sigma(a, b); });
   h.add("unbalanced_force_ratio", [&w] { return w.unbalanced_force_ratio(); });
+  if (config_.cementation.after == CementAfter::None) return;  // a plain run's columns stay as they were
+  h.add("bonds_intact", [&w] { return static_cast<double>(w.bonds().count(BondStatus::intact)); });
+  h.add("bonds_broken_tension", [&w] { return static_cast<double>(w.bonds().count(BondStatus::broken_tension)); });
+  h.add("bonds_broken_shear", [&w] { return static_cast<double>(w.bonds().count(BondStatus::broken_shear)); });
 }
 
 void ElementTest::write_summary(const std::string& resolved_config_json) const {

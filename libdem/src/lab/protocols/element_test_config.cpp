@@ -71,6 +71,7 @@ void for_each_section(Config& c, Visit&& visit, Contact&& contact) {
   contact("ball_ball", "ball-ball", c.ball_ball);
   visit("engine", engine_keys(), c.engine, std::nullopt);
   visit("element", element_keys(), c.element, std::nullopt);
+  visit("cementation", cementation_keys(), c.cementation, fixed_after(P::Shearing, "the bonds were installed with it"));
   visit("output", run_output_keys(), c.output, FixedAfter::never());
 }
 

@@ -22,6 +22,8 @@
 // Outputs in the run's folder: history.csv (a row every element.every_strain of the test's strain:
 // volumetric, axial or shear; element.rows_per_cycle a cycle in the cyclic test), summary.json (peak q/p, the end state), restart files in every
 // stage (restart.restart, consolidated.restart, final.restart), from which a run resumes exactly.
+// With cementation.after (docs/cementation.md), bonds are installed once the specimen is placed or
+// once it is compressed (after consolidated.restart is written), and history.csv counts them.
 // Keys: element_test_schema(); `dem-element-test --help` lists them.
 #pragma once
 
@@ -34,6 +36,7 @@
 
 #include <dem/io/config.hpp>
 #include <dem/lab/protocols/cyclic_shear_config.hpp>
+#include <dem/lab/toolkit/cementation.hpp>
 #include <dem/lab/toolkit/contact_config.hpp>
 #include <dem/lab/toolkit/cyclic_path.hpp>
 #include <dem/lab/toolkit/grading.hpp>
@@ -85,6 +88,7 @@ struct ElementTestConfig {
   ContactTypeConfig ball_ball = SimpleShearConfig{}.ball_ball;
   EngineConfig engine;
   ElementConfig element;
+  CementationConfig cementation;  // bonds between close balls (docs/cementation.md)
   OutputConfig output;  // restart_every_steps and progress_seconds are read
   bool operator==(const ElementTestConfig&) const = default;
 };
@@ -124,6 +128,8 @@ class ElementTest {
   /// The cyclic path's target at time t (s): F_xz, F_yz (strain control) or tau_xz, tau_yz (Pa).
   Vec3 cyclic_target(double time) const;
   void record_row();
+  /// Bonds the close pairs now (cementation.*, strengths keyed by element.seed).
+  void cement_now();
   void add_columns();
   Mat3 reference() const;
 

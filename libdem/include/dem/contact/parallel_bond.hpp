@@ -1,0 +1,145 @@
+// The linear parallel bond (Potyondy & Cundall 2004, "A bonded-particle model for rock", IJRMMS
+// 41; PFC's `linearpbond`; docs/cementation.md): a disc of cement between two balls that carries
+// force and moments, beside (never in place of) the contact law of the pair, until it breaks.
+//
+// The disc: radius Rb = lambda min(R1, R2), area A = pi Rb^2, moments of area I = pi Rb^4 / 4
+// (bending) and J = pi Rb^4 / 2 (twisting); normal and shear stiffness per area kn, ks (Pa/m).
+// Incremental, from the relative motion of piece 2 to piece 1 at the bond point over one step
+// (P&C 2004 eqs. 11-14, in PFC's sign convention, tension positive):
+//   dFn = kn A d(delta_n)      dFs = -ks A d(delta_s)
+//   dMt = -ks J d(theta_t)     dMb = -kn I d(theta_b)
+// with the shear force and bending moment first rotated into the current bond plane (keeping
+// their length, as the contact laws rotate their tangential history). Edge stresses (eq. 15):
+//   sigma = Fn / A + |Mb| Rb / I     (tension positive)
+//   tau   = |Fs| / A + |Mt| Rb / J
+// The bond breaks in tension when sigma > sigma_c, else in shear when tau > c - (Fn / A) tan(phi)
+// (PFC's shear strength: compression, Fn < 0, strengthens it). A broken bond carries nothing more.
+//
+// Plain data and static functions, as the contact laws: the engine's bond loop (core) reads the
+// pieces' motion, calls update() and adds the result to the pieces.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+
+#include <dem/base/errors.hpp>
+#include <dem/base/math.hpp>
+#include <dem/contact/kinematics.hpp>
+
+namespace dem {
+
+/// How a bond ended; stored per bond (BondStore::status).
+enum class BondStatus : std::uint8_t { intact = 0, broken_tension = 1, broken_shear = 2 };
+
+inline const char* to_string(BondStatus s) {
+  switch (s) {
+    case BondStatus::intact: return "intact";
+    case BondStatus::broken_tension: return "broken in tension";
+    case BondStatus::broken_shear: return "broken in shear";
+  }
+  return "?";
+}
+
+struct ParallelBondLaw {
+  /// One bond's parameters (each bond has its own: strengths are drawn per bond).
+  struct Params {
+    double radius = 0.0;            // m, Rb = lambda min(R1, R2)
+    double normal_stiffness = 0.0;  // Pa/m, kn, per area
+    double shear_stiffness = 0.0;   // Pa/m, ks, per area
+    double tensile_strength = 0.0;  // Pa, sigma_c
+    double cohesion = 0.0;          // Pa, c
+    double friction_angle = 0.0;    // rad, phi, in [0, pi/2)
+
+    void validate(const std::string& where) const {
+      require_positive(where + ".radius", radius);
+      require_positive(where + ".normal_stiffness", normal_stiffness);
+      require_positive(where + ".shear_stiffness", shear_stiffness);
+      require_non_negative(where + ".tensile_strength", tensile_strength);
+      require_non_negative(where + ".cohesion", cohesion);
+      require(friction_angle >= 0.0 && friction_angle < 0.5 * pi, where + ".friction_angle", friction_angle,
+              "in [0, pi/2) rad");
+    }
+    double area() const { return pi * radius * radius; }                              // m^2
+    double bending_inertia() const { return 0.25 * pi * radius * radius * radius * radius; }  // m^4, I
+    double polar_inertia() const { return 0.5 * pi * radius * radius * radius * radius; }     // m^4, J
+  };
+
+  /// What the bond carries, in the bond's frame at the last step.
+  struct State {
+    double normal_force = 0.0;             // N, Fn, tension positive
+    Vec3 shear_force = Vec3::Zero();       // N, Fs on piece 2, in the bond plane
+    double twist_moment = 0.0;             // N m, Mt on piece 2 about the normal
+    Vec3 bend_moment = Vec3::Zero();       // N m, Mb on piece 2, in the bond plane
+  };
+
+  /// The relative motion the bond sees over one step.
+  struct Motion {
+    Vec3 normal;                     // unit, from piece 1 to piece 2
+    Vec3 relative_velocity;          // m/s, of piece 2 relative to piece 1 at the bond point
+    Vec3 relative_angular_velocity;  // rad/s, w2 - w1
+    double dt;                       // s
+  };
+
+  /// Advances the bond by one step and checks its strength; returns intact or how it broke (then
+  /// the State is zero).
+  static BondStatus update(const Params& p, const Motion& m, State& s) {
+    const Vec3& n = m.normal;
+    s.shear_force = rotate_into_plane(s.shear_force, n);
+    s.bend_moment = rotate_into_plane(s.bend_moment, n);
+    const double normal_speed = m.relative_velocity.dot(n);  // > 0 separating
+    const Vec3 shear_velocity = m.relative_velocity - normal_speed * n;
+    const double twist_rate = m.relative_angular_velocity.dot(n);
+    const Vec3 bend_rate = m.relative_angular_velocity - twist_rate * n;
+    const double area = p.area(), inertia = p.bending_inertia(), polar = p.polar_inertia();
+    s.normal_force += p.normal_stiffness * area * (normal_speed * m.dt);
+    s.shear_force -= p.shear_stiffness * area * (shear_velocity * m.dt);
+    s.twist_moment -= p.shear_stiffness * polar * (twist_rate * m.dt);
+    s.bend_moment -= p.normal_stiffness * inertia * (bend_rate * m.dt);
+    BondStatus out = BondStatus::intact;
+    if (tensile_stress(p, s) > p.tensile_strength) out = BondStatus::broken_tension;
+    else if (shear_stress(p, s) > shear_strength(p, s)) out = BondStatus::broken_shear;
+    if (out != BondStatus::intact) s = State{};
+    return out;
+  }
+
+  /// The force on piece 2 (N); piece 1 gets the opposite. Tension pulls piece 2 back to piece 1.
+  static Vec3 force(const State& s, const Vec3& normal) { return -s.normal_force * normal + s.shear_force; }
+  /// The pure moment on piece 2 (N m); piece 1 gets the opposite.
+  static Vec3 moment(const State& s, const Vec3& normal) { return s.twist_moment * normal + s.bend_moment; }
+
+  /// Largest normal stress at the disc's edge, Pa, tension positive.
+  static double tensile_stress(const Params& p, const State& s) {
+    return s.normal_force / p.area() + s.bend_moment.norm() * p.radius / p.bending_inertia();
+  }
+  /// Largest shear stress at the disc's edge, Pa.
+  static double shear_stress(const Params& p, const State& s) {
+    return s.shear_force.norm() / p.area() + std::abs(s.twist_moment) * p.radius / p.polar_inertia();
+  }
+  /// Shear strength at the bond's normal stress, Pa: c - (Fn / A) tan(phi), at least 0.
+  static double shear_strength(const Params& p, const State& s) {
+    return std::max(0.0, p.cohesion - s.normal_force / p.area() * std::tan(p.friction_angle));
+  }
+
+  /// The bond's stiffness on its pieces, for the stable time step (docs/model.md 3.2): kn A and
+  /// ks A on translation; on rotation the larger of bending kn I and twisting ks J, plus the shear
+  /// spring at the lever `arm` (m, the ball's radius), as the contact laws count theirs.
+  static ContactStiffness stiffness(const Params& p) {
+    ContactStiffness k;
+    k.normal = p.normal_stiffness * p.area();
+    k.shear = p.shear_stiffness * p.area();
+    k.rolling = std::max(p.normal_stiffness * p.bending_inertia(), p.shear_stiffness * p.polar_inertia());
+    return k;
+  }
+
+  /// A vector rotated into the plane normal to `normal`, keeping its length (zero stays zero).
+  static Vec3 rotate_into_plane(const Vec3& v, const Vec3& normal) {
+    const double length_sq = v.squaredNorm();
+    if (length_sq == 0.0) return v;
+    const Vec3 projected = v - v.dot(normal) * normal;
+    const double projected_sq = projected.squaredNorm();
+    return projected_sq > 0.0 ? std::sqrt(length_sq / projected_sq) * projected : projected;
+  }
+};
+
+}  // namespace dem
