@@ -36,8 +36,12 @@ std::shared_ptr<const ContactModel> bench_law(double gamma_n, double mu, double 
 /// Young's modulus such that the Hertz secant stiffness F_n / delta at the packing's mean
 /// ball-ball overlap and effective radius is the benchmark's kn (the packing was made with kn, so
 /// its forces stay about the same), Poisson's ratio 0.25, the restitution of bench_law's damping
-/// ratio 0.2 (0.527), the same friction and rolling friction. `balls`: the packing.
-std::shared_ptr<const ContactModel> bench_hertz_law(const std::vector<BallSpec>& balls, double mu, double mu_r);
+/// ratio 0.2 (0.527), the same friction and rolling friction. `balls`: the packing. `damping`:
+/// LIGGGHTS's dashpot (the default) or LAMMPS's Tsuji dashpot, the peer compare-peers runs it against.
+HertzMindlinParams bench_hertz_params(const std::vector<BallSpec>& balls, double mu, double mu_r,
+                                      HertzDamping damping = HertzDamping::liggghts);
+std::shared_ptr<const ContactModel> bench_hertz_law(const std::vector<BallSpec>& balls, double mu, double mu_r,
+                                                    HertzDamping damping = HertzDamping::liggghts);
 
 /// Side wall (a circumscribed polygon of `segments` facets, from z = -1 mm to side_top), bottom
 /// plane z = 0 and a top plane at top_z; returns the top wall's id.

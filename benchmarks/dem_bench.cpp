@@ -113,6 +113,12 @@ int main(int argc, char** argv) {
       "law", po::value<std::string>()->default_value("rrlinear"),
       "contact law: rrlinear (the peers' benchmark law) or hertz-mindlin (its stiffness matched at the packing's "
       "mean overlap, bench_system.hpp), to time one against the other")(
+      "damping-model", po::value<std::string>()->default_value("liggghts"),
+      "hertz-mindlin's dashpot: liggghts (LIGGGHTS's model hertz) or tsuji (LAMMPS's damping tsuji), the peer "
+      "compare-peers --law hertz runs it against")(
+      "rolling-friction", po::value<double>()->default_value(rolling_friction),
+      "rolling friction mu_r of either law (0: no rolling resistance; LAMMPS's rolling sds has no Hertz-scaled "
+      "spring, so compare-peers runs the tsuji comparison without it)")(
       "digest", "print a hash of the final state (state_digest), the same bit for bit for any rank and thread count")(
       "isa", po::value<std::string>()->default_value("best"),
       "instruction set of the contact blocks and the leapfrog: best (the processor's), avx512, avx2 or scalar; "
@@ -150,13 +156,32 @@ int main(int argc, char** argv) {
       top_z = 0;
       for (const auto& b : balls) top_z = std::max(top_z, b.position.z() + b.radius);
     }
+    const std::string law = vm["law"].as<std::string>();
+    if (law != "rrlinear" && law != "hertz-mindlin")
+      throw InputError("--law = " + law + ": must be rrlinear or hertz-mindlin");
+    const std::string damping_name = vm["damping-model"].as<std::string>();
+    if (damping_name != "liggghts" && damping_name != "tsuji")
+      throw InputError("--damping-model = " + damping_name + ": must be liggghts or tsuji");
+    if (damping_name != "liggghts" && law != "hertz-mindlin")
+      throw InputError("--damping-model = " + damping_name + ": only with --law hertz-mindlin (--law is " + law + ")");
+    const HertzDamping damping = damping_name == "tsuji" ? HertzDamping::tsuji : HertzDamping::liggghts;
+    const double mu_r = vm["rolling-friction"].as<double>();
+    if (!(mu_r >= 0.0)) throw InputError("--rolling-friction = " + std::to_string(mu_r) + ": must be >= 0");
     if (vm.count("describe")) {
       std::printf("balls: %zu\nsteps: %ld\ntime_step_s: %.17g\ngamma_n_per_s: %.17g\nskin_m: %.17g\ntop_wall_z_m: %.17g\n"
                   "cylinder_radius_m: %.17g\nwall_speed_m_per_s: %.17g\nnormal_stiffness_N_per_m: %.17g\nshear_stiffness_N_per_m: %.17g\n"
                   "friction: %.17g\nrolling_friction: %.17g\ndensity_kg_per_m3: %.17g\ngravity_m_per_s2: 9.81\n"
                   "packing_recipe: %.0f\ngenerator_recipe: %d\n",
                   balls.size(), steps, dt, gamma_n, sys.skin, top_z, cylinder_radius, wall_speed, normal_stiffness, normal_stiffness,
-                  friction, rolling_friction, density, input.header_value("recipe"), packing_recipe);
+                  friction, mu_r, density, input.header_value("recipe"), packing_recipe);
+      if (law == "hertz-mindlin") {
+        // The material the peers' Hertz laws take (compare-peers --law hertz), and what it derives to.
+        const HertzMindlinParams h = bench_hertz_params(balls, friction, mu_r, damping);
+        std::printf("law: hertz-mindlin\ndamping_model: %s\nyoungs_modulus_Pa: %.17g\npoissons_ratio: %.17g\n"
+                    "restitution: %.17g\neffective_modulus_Pa: %.17g\neffective_shear_modulus_Pa: %.17g\n",
+                    to_string(h.damping_model), h.youngs_modulus, h.poissons_ratio, h.restitution, h.effective_modulus,
+                    h.effective_shear_modulus);
+      }
       return 0;
     }
 
@@ -172,11 +197,8 @@ int main(int argc, char** argv) {
     // The input copy (96 B per ball) is the benchmark's, not the library's: drop it before the
     // peak RSS is reached (the first neighbour-list build).
     const std::size_t ball_count = balls.size();
-    const std::string law = vm["law"].as<std::string>();
-    if (law != "rrlinear" && law != "hertz-mindlin")
-      throw InputError("--law = " + law + ": must be rrlinear or hertz-mindlin");
-    const auto model = law == "rrlinear" ? bench_law(gamma_n, friction, rolling_friction)
-                                         : bench_hertz_law(balls, friction, rolling_friction);  // needs the packing
+    const auto model = law == "rrlinear" ? bench_law(gamma_n, friction, mu_r)
+                                         : bench_hertz_law(balls, friction, mu_r, damping);  // needs the packing
     std::vector<BallSpec>().swap(balls);
     const std::string boundary = vm["boundary"].as<std::string>();
     if (boundary != "cylinder" && boundary != "analytic" && boundary != "rings" && boundary != "none")

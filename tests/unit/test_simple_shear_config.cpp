@@ -171,6 +171,26 @@ TEST_CASE("simple-shear keys: hertz-mindlin reads its material and its damping m
   CHECK_THROWS_WITH(c.set("ball_ball.restitution", "1.5"), Contains("ball_ball.restitution") && Contains("1.5"));
 }
 
+TEST_CASE("simple-shear keys: a key of a law that is not chosen is refused by name, with the law and its keys",
+          "[lab][config][law]") {
+  io::Config c(simple_shear_schema());
+  c.set("ball_ball.youngs_modulus", "2e9");  // ball_ball.law stays rrlinear
+  CHECK_THROWS_WITH(simple_shear_config(c), Contains("ball_ball.youngs_modulus") && Contains("hertz-mindlin") &&
+                                                Contains("ball_ball.law = rrlinear") && Contains("effective_modulus") &&
+                                                Contains("stiffness_ratio"));
+  io::Config h(simple_shear_schema());
+  h.set("ball_facet.law", "hertz-mindlin");
+  h.set("ball_facet.surface_energy", "0.05");  // hertz-dmt's, not hertz-mindlin's
+  CHECK_THROWS_WITH(simple_shear_config(h), Contains("ball_facet.surface_energy") && Contains("hertz-dmt") &&
+                                                Contains("ball_facet.law = hertz-mindlin") && Contains("youngs_modulus"));
+  // A key at its declared default passes: a printed configuration lists every law's keys.
+  h.set("ball_facet.surface_energy", h.schema().find("ball_facet.surface_energy")->default_value);
+  CHECK(simple_shear_config(h).ball_facet.law == "hertz-mindlin");
+  h.set("ball_facet.law", "hertz-dmt");
+  h.set("ball_facet.surface_energy", "0.05");
+  CHECK(simple_shear_config(h).ball_facet.parameters.at("surface_energy") == 0.05);
+}
+
 TEST_CASE("simple-shear keys: the checks across keys apply to a struct built in C++", "[lab][config]") {
   SimpleShearConfig c;
   c.rings.stack_height = 0.5 * c.specimen.height;

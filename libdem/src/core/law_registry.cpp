@@ -3,11 +3,17 @@
 
 #include <stdexcept>
 
+#include <dem/contact/hertz_dmt_law.hpp>
 #include <dem/contact/hertz_mindlin_law.hpp>
 #include <dem/contact/linear_law.hpp>
 #include <dem/core/errors.hpp>
 
 namespace dem {
+
+// Compiled once in hertz_dmt_loops.cpp. Declared here, not in core/contact_model.hpp beside the
+// other built-in laws, so that a program that never sets it does not see it.
+extern template std::shared_ptr<const ContactModel> make_contact_model<HertzDmtLaw>(const HertzDmtLaw::Params&,
+                                                                                   const std::string&);
 
 LawValues::LawValues(const std::vector<LawParameter>& parameters) {
   for (const LawParameter& p : parameters) values_[p.name] = p.default_value;
@@ -95,7 +101,7 @@ std::vector<LawParameter> hertz_mindlin_parameters() {
   };
 }
 
-std::shared_ptr<const ContactModel> bind_hertz_mindlin(const LawValues& v, const std::string& where) {
+HertzMindlinParams hertz_mindlin_params(const LawValues& v, const std::string& where) {
   const double model = v.at("damping_model");
   require(model == 0.0 || model == 1.0, where + ".damping_model", model, "liggghts (0) or tsuji (1)");
   HertzMindlinParams p;
@@ -106,7 +112,28 @@ std::shared_ptr<const ContactModel> bind_hertz_mindlin(const LawValues& v, const
   p.rolling_friction = v.at("rolling_friction");
   p.damping_model = model == 1.0 ? HertzDamping::tsuji : HertzDamping::liggghts;
   p.derive();  // a restitution out of range gives NaN constants here, refused by name in validate()
-  return make_contact_model<HertzMindlinLaw>(p, where);
+  return p;
+}
+
+std::shared_ptr<const ContactModel> bind_hertz_mindlin(const LawValues& v, const std::string& where) {
+  return make_contact_model<HertzMindlinLaw>(hertz_mindlin_params(v, where), where);
+}
+
+// Hertz-DMT's keys: Hertz-Mindlin's and the surface energy (contact/hertz_dmt_law.hpp).
+std::vector<LawParameter> hertz_dmt_parameters() {
+  std::vector<LawParameter> parameters = hertz_mindlin_parameters();
+  parameters.push_back({"surface_energy", "J/m^2",
+                        "surface energy gamma of DMT adhesion: pull-off force 4 pi gamma R*, the contact breaking as the "
+                        "surfaces part (LAMMPS's dmt)",
+                        0.0, 0.0});
+  return parameters;
+}
+
+std::shared_ptr<const ContactModel> bind_hertz_dmt(const LawValues& v, const std::string& where) {
+  HertzDmtParams p;
+  p.hertz = hertz_mindlin_params(v, where);
+  p.surface_energy = v.at("surface_energy");
+  return make_contact_model<HertzDmtLaw>(p, where);
 }
 
 }  // namespace
@@ -128,6 +155,11 @@ const std::vector<LawEntry>& contact_laws() {
        hertz_mindlin_parameters(),
        {"youngs_modulus", "friction", "rolling_friction"},
        &bind_hertz_mindlin},
+      {"hertz-dmt",
+       "Hertz-Mindlin with DMT adhesion 4 pi gamma R* while the surfaces touch, as LAMMPS's dmt (docs/model.md 1.5)",
+       hertz_dmt_parameters(),
+       {"youngs_modulus", "friction", "rolling_friction"},
+       &bind_hertz_dmt},
   };
   return laws;
 }

@@ -28,6 +28,28 @@ std::string laws_using(const std::string& name) {
   return "(" + laws + ")";
 }
 
+// A key of a law the section does not choose, set to other than its declared default, is refused
+// by name: the run would otherwise ignore it in silence (a Young's modulus given to rrlinear). A key
+// at its default passes, so that a printed configuration (every law's keys) reads back.
+void refuse_other_laws_keys(const io::Config& config, const std::string& section, const LawEntry& law) {
+  std::string own;
+  for (const LawParameter& p : law.parameters) own += (own.empty() ? "" : ", ") + p.name;
+  for (const LawParameter& p : all_parameters()) {
+    bool of_law = false;
+    for (const LawParameter& q : law.parameters) of_law = of_law || q.name == p.name;
+    const std::string key = section + "." + p.name;
+    const io::KeySpec* spec = config.schema().find(key);
+    if (of_law || spec == nullptr) continue;
+    const bool changed = p.choices.empty() ? config.real(key) != std::stod(spec->default_value)
+                                           : config.text(key) != spec->default_value;
+    if (!changed) continue;
+    const std::string laws = laws_using(p.name);  // "(a, b)"
+    throw InputError(key + " = " + config.exact_text(key) + ": a key of " + laws.substr(1, laws.size() - 2) +
+                     ", not of the chosen law " + section + ".law = " + law.keyword + ", whose keys are " + own +
+                     " (remove it, or choose a law that has it)");
+  }
+}
+
 }  // namespace
 
 ContactTypeConfig ContactTypeConfig::rolling_linear(double effective_modulus, double stiffness_ratio, double friction,
@@ -101,6 +123,7 @@ ContactTypeConfig read_contact_keys(const io::Config& config, const std::string&
     const std::string key = section + "." + p.name;
     c.parameters.set(p.name, p.choices.empty() ? config.real(key) : p.choice_index(config.text(key), key));
   }
+  refuse_other_laws_keys(config, section, law);
   return c;
 }
 
