@@ -7,6 +7,8 @@
 #include <dem/boundary/clump_ring.hpp>
 #include <dem/boundary/wall.hpp>
 #include <dem/contact/contact_law.hpp>
+#include <dem/contact/hertz_dmt_law.hpp>
+#include <dem/contact/hertz_mindlin_law.hpp>
 #include <dem/contact/linear_law.hpp>
 #include <dem/contact/parallel_bond.hpp>
 #include <dem/control/cell_servo.hpp>

@@ -125,7 +125,7 @@ std::vector<LawParameter> hertz_dmt_parameters() {
   parameters.push_back({"surface_energy", "J/m^2",
                         "surface energy gamma of DMT adhesion: pull-off force 4 pi gamma R*, the contact breaking as the "
                         "surfaces part (LAMMPS's dmt)",
-                        0.0, 0.0});
+                        0.0, 0.0, 1e3});  // J/m^2: water's is 0.07
   return parameters;
 }
 
