@@ -60,10 +60,7 @@ struct HertzDmtParams {
 /// Hertz-Mindlin with DMT's constant adhesion 4 pi gamma R* while the surfaces touch.
 struct HertzDmtLaw {
   using Params = HertzDmtParams;
-  struct State {
-    Lane3 shear_displacement{};  // m, xi, in the contact plane
-    Lane3 rolling_moment{};      // N m, on piece 2, in the contact plane
-  };
+  using State = HertzMindlinLaw::State;  // the same history: adhesion adds none
   static constexpr const char* name = "hertz-dmt";
 
   /// Hertz-Mindlin's estimate: the attraction adds no stiffness.
