@@ -380,6 +380,25 @@ def output_folders(program, work, a):
         fail("--replace: the new shear of A's specimen must have A's history")
     print("--replace: the old run's files were removed and the new run's written", flush=True)
 
+    # A second --replace removes what the manifest of the run before lists, and nothing else: a
+    # user's files beside the results and inside snapshots/ stay, under any name.
+    mine = {os.path.join(other, "my_notes.txt"): b"the user's notes",
+            os.path.join(other, "snapshots", "my_view.pvsm"): b"the user's ParaView state",
+            os.path.join(other, "snapshots", "balls_strain_99.0.vtp"): b"the user's own copy"}
+    for path, data in mine.items():
+        with open(path, "wb") as f:
+            f.write(data)
+    code = run(program, SPECIMEN + ["--out", other, "--replace", "--set", "output.snapshot_strains=0.04"],
+               os.path.join(out, "replace2.log"))
+    if code != 0 or any(read(path) != data for path, data in mine.items()):
+        fail(f"a second --replace (exit {code}) removed or changed a user's file: {sorted(os.listdir(other))}")
+    if os.path.exists(os.path.join(other, "snapshots", "balls_strain_00.0.vtp")):
+        fail("a second --replace left a snapshot of the run it replaced")
+    listed = json.loads(read(os.path.join(other, "manifest.json")))["files"]
+    if any(name.startswith("my_") or "99.0" in name for name in listed) or "snapshots/balls_strain_04.0.vtp" not in listed:
+        fail(f"manifest.json must list the run's files and no user's: {listed}")
+    print("a second --replace kept the user's files in --out and snapshots/", flush=True)
+
     # A run that ended, run again from its consolidated specimen in its own folder: refused (two
     # runs' files would stand side by side until it ends), the folder left as it was.
     again = os.path.join(out, "again")

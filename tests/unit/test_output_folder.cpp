@@ -46,6 +46,16 @@ pid_t ended_pid() {
   return child;
 }
 
+// The results of a run made by a claim as a run makes them: files recorded in its manifest.
+void write_run(const fs::path& dir) {
+  io::OutputFolder run(dir, policy());
+  fs::create_directories(dir / "snapshots");
+  write(dir / "history.csv", "time\n1\n");
+  write(dir / "snapshots" / "balls_0.vtp", "x");
+  run.record(dir / "snapshots" / "balls_0.vtp");
+}
+
+
 }  // namespace
 
 TEST_CASE("output folder: a second claim while the first holds it is refused, naming the holder", "[io][output-folder]") {
@@ -62,11 +72,10 @@ TEST_CASE("output folder: a second claim while the first holds it is refused, na
   CHECK_NOTHROW(io::OutputFolder(dir, policy()));  // released with the first
 }
 
+
 TEST_CASE("output folder: another run's results are refused untouched, or replaced together", "[io][output-folder]") {
   const fs::path dir = fresh_dir("replace");
-  fs::create_directories(dir / "snapshots");
-  write(dir / "history.csv", "time\n1\n");
-  write(dir / "snapshots" / "balls_0.vtp", "x");
+  write_run(dir);
   write(dir / "notes.txt", "the user's own file");
   CHECK_THROWS_WITH(io::OutputFolder(dir, policy()),
                     Contains("holds the results of another run") && Contains("history.csv, snapshots") && Contains("--replace"));
@@ -75,7 +84,10 @@ TEST_CASE("output folder: another run's results are refused untouched, or replac
 
   io::OutputFolderPolicy continuing = policy();
   continuing.continues_own_run = true;  // a restart in this folder: its results are the run's own
-  { CHECK_NOTHROW(io::OutputFolder(dir, continuing)); }
+  {
+    io::OutputFolder own(dir, continuing);
+    CHECK(own.manifest() == std::vector<std::string>{"history.csv", "snapshots", "final.restart", "snapshots/balls_0.vtp"});
+  }
   CHECK(fs::exists(dir / "history.csv"));
 
   io::OutputFolderPolicy replacing = policy();
@@ -85,6 +97,46 @@ TEST_CASE("output folder: another run's results are refused untouched, or replac
   CHECK_FALSE(fs::exists(dir / "history.csv"));
   CHECK_FALSE(fs::exists(dir / "snapshots"));
   CHECK(read(dir / "notes.txt") == "the user's own file");  // not a result: left alone
+  CHECK(folder.manifest() == std::vector<std::string>{"history.csv", "snapshots", "final.restart"});
+}
+
+TEST_CASE("output folder: a replace removes only what the manifest lists, a user's file in a run folder included", "[io][output-folder]") {
+  const fs::path dir = fresh_dir("manifest");
+  write_run(dir);
+  write(dir / "snapshots" / "my_view.pvsm", "the user's ParaView state");
+  write(dir / "snapshots" / "balls_9.vtp", "the user's own copy");  // named like a result, not the run's
+  io::OutputFolderPolicy replacing = policy();
+  replacing.replace = true;
+  {
+    io::OutputFolder folder(dir, replacing);
+    CHECK(folder.kept() == std::vector<std::string>{"snapshots"});
+    CHECK_FALSE(fs::exists(dir / "history.csv"));
+    CHECK_FALSE(fs::exists(dir / "snapshots" / "balls_0.vtp"));
+    CHECK(read(dir / "snapshots" / "my_view.pvsm") == "the user's ParaView state");
+    CHECK(read(dir / "snapshots" / "balls_9.vtp") == "the user's own copy");
+  }
+  // A manifest that names a path outside the folder is refused before anything is removed.
+  write(dir / "history.csv", "time\n");
+  write(dir / "manifest.json", R"({"files": ["history.csv", "../elsewhere.txt"]})");
+  CHECK_THROWS_WITH(io::OutputFolder(dir, replacing), Contains("manifest.json") && Contains("../elsewhere.txt") &&
+                                                          Contains("not a path inside the folder"));
+  CHECK(fs::exists(dir / "history.csv"));
+}
+
+TEST_CASE("output folder: results without a manifest lose only their named files, and a run folder is refused", "[io][output-folder]") {
+  const fs::path dir = fresh_dir("legacy");
+  fs::create_directories(dir / "snapshots");
+  write(dir / "history.csv", "time\n1\n");
+  write(dir / "snapshots" / "balls_0.vtp", "x");  // a run before manifests, or the user's: nobody can tell
+  io::OutputFolderPolicy replacing = policy();
+  replacing.replace = true;
+  CHECK_THROWS_WITH(io::OutputFolder(dir, replacing),
+                    Contains("snapshots/") && Contains("manifest.json") && Contains("remove snapshots/ yourself"));
+  CHECK(fs::exists(dir / "history.csv"));  // refused: nothing removed
+  fs::remove_all(dir / "snapshots");
+  io::OutputFolder folder(dir, replacing);
+  CHECK(folder.replaced() == std::vector<std::string>{"history.csv"});
+  CHECK_FALSE(fs::exists(dir / "history.csv"));
 }
 
 TEST_CASE("output folder: temporary files of ended processes are removed, those of running ones kept", "[io][output-folder]") {

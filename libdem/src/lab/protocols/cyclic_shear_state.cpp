@@ -79,6 +79,7 @@ void CyclicShearTest::keep_state() {
     if (!run_.loaded()) return;
     fabric_->resume(next_fabric_);
     snapshots_->resume(next_snapshot_);
+    run_.record_outputs(snapshots_->files());
   });
 }
 

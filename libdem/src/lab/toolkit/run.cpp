@@ -27,24 +27,37 @@ bool same_folder(const std::filesystem::path& a, const std::filesystem::path& b)
 // The carried files of a run resumed from a restart written in another folder, brought here (hard
 // links where possible: they are only read, and every writer replaces files by renaming, which
 // leaves the originals alone). The resumed run trims them to the restart point, as it does in the
-// restart's own folder.
-void copy_carried(const std::filesystem::path& from, const std::filesystem::path& to, const std::vector<std::string>& names) {
+// restart's own folder. A folder's files are brought one by one: a user's file in the folder here
+// stays. Returns the files brought into folders (the named ones are listed at claim already).
+std::vector<std::filesystem::path> copy_carried(const std::filesystem::path& from, const std::filesystem::path& to,
+                                                const std::vector<std::string>& names) {
   namespace fs = std::filesystem;
   fs::create_directories(to);
+  std::vector<fs::path> inner;
+  const auto bring = [](const fs::path& source, const fs::path& target) {
+    fs::remove(target);
+    std::error_code linked;
+    fs::create_hard_link(source, target, linked);
+    if (linked) fs::copy_file(source, target);
+  };
   for (const std::string& name : names) {
     if (!fs::exists(from / name)) continue;
     if (!fs::is_directory(from / name)) {
       fs::copy_file(from / name, to / name, fs::copy_options::overwrite_existing);
       continue;
     }
-    fs::remove_all(to / name);
-    std::error_code linked;
-    fs::copy(from / name, to / name, fs::copy_options::recursive | fs::copy_options::create_hard_links, linked);
-    if (linked) {
-      fs::remove_all(to / name);
-      fs::copy(from / name, to / name, fs::copy_options::recursive);
+    for (const auto& entry : fs::recursive_directory_iterator(from / name)) {
+      const fs::path target = to / name / entry.path().lexically_relative(from / name);
+      if (entry.is_directory()) {
+        fs::create_directories(target);
+        continue;
+      }
+      fs::create_directories(target.parent_path());
+      bring(entry.path(), target);
+      inner.push_back(target);
     }
   }
+  return inner;
 }
 
 }  // namespace
@@ -80,11 +93,16 @@ void Run::claim(const OutputOptions& options) {
   for (const std::string& name : folder_claim_->replaced()) *log_ << "removed " << (folder_ / name).string() << " of the run the folder held\n";
   if (folder_claim_->leftovers_removed() > 0)
     *log_ << "removed " << folder_claim_->leftovers_removed() << " temporary file(s) left by a killed run\n";
-  if (loaded() && !own) copy_carried(loaded_from_, folder_, files_.carried);
+  if (loaded() && !own) record_outputs(copy_carried(loaded_from_, folder_, files_.carried));
   // The summary of the session before is not this run's: until this one ends the folder has none.
   if (own && std::find(files_.results.begin(), files_.results.end(), "summary.json") != files_.results.end())
     fs::remove(folder_ / "summary.json");
   for (const auto& f : on_claim_) f();
+}
+
+void Run::record_outputs(const std::vector<std::filesystem::path>& files) {
+  if (!folder_claim_) return;
+  for (const auto& file : files) folder_claim_->record(file);
 }
 
 void Run::keep(const std::string& key, double& value) {

@@ -61,6 +61,7 @@ ShearOutputs::ShearOutputs(Run& run, const NgiSpecimen& specimen, std::function<
     if (!run_.loaded()) return;
     fabric_->resume(next_fabric_);
     snapshots_->resume(next_snapshot_);
+    run_.record_outputs(snapshots_->files());
   });
 }
 
@@ -82,8 +83,10 @@ void ShearOutputs::record(double strain, bool force) {
     while (next_row_strain_ <= strain + 1e-12) next_row_strain_ += out.every_strain;
   }
   for (; fabric_due(); ++next_fabric_) fabric_->record(world, label_for(out.fabric_strains[next_fabric_]), strain);
-  for (; snapshot_due(); ++next_snapshot_)
+  for (; snapshot_due(); ++next_snapshot_) {
     snapshots_->write(world, label_for(out.snapshot_strains[next_snapshot_]), world.time(), strain);
+    run_.record_outputs(snapshots_->files());
+  }
 }
 
 void ShearOutputs::add_columns() {

@@ -172,6 +172,20 @@ void SnapshotWriter::add_to_collections(const IndexRow& row) {
     collections_[k].add(row.time, file_of(dir_, kinds[k], row.label, ".vtp"));
 }
 
+std::vector<fs::path> SnapshotWriter::files() const {
+  std::vector<fs::path> written;
+  std::error_code error;
+  if (fs::exists(dir_ / "snapshots.csv", error)) written.push_back(dir_ / "snapshots.csv");
+  if (!index_.empty())
+    for (const char* kind : kinds) written.push_back(dir_ / (std::string(kind) + ".pvd"));
+  for (const auto& row : index_)
+    for (const char* kind : kinds) {
+      written.push_back(file_of(dir_, kind, row.label, ".vtp"));
+      if (kind == kinds[0] || kind == kinds[1]) written.push_back(file_of(dir_, kind, row.label, ".csv"));
+    }
+  return written;
+}
+
 void SnapshotWriter::save_index() const {
   io::write_atomically(dir_ / "snapshots.csv", [this](std::ostream& out) {
     out << index_header << '\n';

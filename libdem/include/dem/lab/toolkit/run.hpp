@@ -82,6 +82,11 @@ class Run {
   /// Runs `f` at the end of claim(): a part that continues files of a loaded run (the carried
   /// files are here by then).
   void on_claim(std::function<void()> f) { on_claim_.push_back(std::move(f)); }
+  /// Lists files this run wrote inside a folder of its results (snapshots/...) in the folder's
+  /// manifest, so that a --replace removes them and nothing else (io/output_folder.hpp). The
+  /// results named in RunFiles are listed at claim(). Before claim(), and on ranks that do not
+  /// claim the folder, nothing.
+  void record_outputs(const std::vector<std::filesystem::path>& files);
 
   // --- the cursor: values restart files keep ------------------------------------------------
   /// Keeps `value` under `key` in every restart file, and sets it from a loaded one (now, if the

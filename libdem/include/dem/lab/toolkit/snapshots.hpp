@@ -59,6 +59,9 @@ class SnapshotWriter {
   std::size_t snapshots() const { return index_.size(); }
 
   const std::filesystem::path& directory() const { return dir_; }
+  /// Every file of the snapshots written or kept so far: the index, the .pvd collections and
+  /// each snapshot's .vtp and .csv files (a run lists them in its manifest).
+  std::vector<std::filesystem::path> files() const;
 
  private:
   struct IndexRow {
