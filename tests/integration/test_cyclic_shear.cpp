@@ -260,6 +260,17 @@ TEST_CASE("cyclic shear: a run stopped in any stage resumes from its restart fil
   const dem::testing::TempDir whole("cyclic_resume_whole");
   run_to_end(whole.path, consolidated, 0);
   const io::CsvData rows = io::read_csv(whole.path / "cyclic_history.csv", io::Missing::Allowed);
+  {
+    // The specimen's stage stays "consolidated" through the cycles: a monotonic test must not take
+    // the cycled specimen for a consolidated one (the specimen it started from it may).
+    std::ostringstream log;
+    SimpleShearTest monotonic(specimen(), whole.path / "monotonic", log);
+    CHECK_THROWS_WITH(monotonic.load_restart(whole.path / "final.restart"),
+                      Contains("written by dem-cyclic-shear") && Contains("consolidated.restart"));
+    CHECK_FALSE(fs::exists(whole.path / "monotonic"));
+    SimpleShearTest before_cycles(specimen(), whole.path / "monotonic", log);
+    CHECK_NOTHROW(before_cycles.load_restart(consolidated));
+  }
   // A step in the middle of each stage: static, cyclic, post-cyclic.
   for (const double phase : {0.0, 1.0, 2.0}) {
     std::vector<double> steps;

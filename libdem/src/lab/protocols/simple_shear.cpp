@@ -69,6 +69,15 @@ void SimpleShearTest::reconsolidate() {
 
 void SimpleShearTest::load_restart(const std::filesystem::path& file, ResumeIntent intent) {
   specimen_.load(file, intent);
+  // The cyclic test leaves the specimen's stage at "consolidated" (it shears it its own way): its
+  // files after its consolidated.restart (cyclic_step 0) would pass for a consolidated specimen,
+  // with the cycles missing from the history.
+  if (const ProtocolRecord& record = run_.loaded_record(); record.has("cyclic_step") && record.number("cyclic_step") != 0)
+    throw InputError("restart file " + file.string() + " was written by dem-cyclic-shear (cyclic_step " +
+                     std::to_string(static_cast<long long>(record.number("cyclic_step"))) +
+                     "): its specimen has been cycled, not only consolidated, and this test cannot go on from it. "
+                     "Allowed: --from the consolidated.restart of that folder (the specimen before the cycles), or "
+                     "dem-cyclic-shear --from this file (more cycles)");
   run_.log() << "resumed from " << file.string() << " at step " << world().step_count() << ", time step " << world().time_step()
              << " s (" << to_string(specimen_.progress()) << ", shear strain " << legs_.strain() << ")\n";
 }
