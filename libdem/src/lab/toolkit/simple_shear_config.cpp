@@ -57,6 +57,11 @@ void SimpleShearConfig::validate() const {
   grading.validate("grading");
   require(rings.stack_height == 0.0 || rings.stack_height >= specimen.height, "rings.stack_height", rings.stack_height,
           "0 or at least specimen.height (" + io::real_text(specimen.height) + " m)");
+  // A ring wall is a stack of rings around the specimen: a pebble as tall as the specimen is no wall.
+  const double widest_pebble = std::min(specimen.height, specimen.diameter) / 4;
+  require(rings.pebble_diameter <= widest_pebble, "rings.pebble_diameter", rings.pebble_diameter,
+          "0 (the smallest ball) or at most a quarter of specimen.height and specimen.diameter (" +
+              io::real_text(widest_pebble) + " m): a stack of at least four rings");
   (void)shear.legs();
 }
 
