@@ -1,5 +1,5 @@
-// The lab protocols from Python: the NGI simple-shear test and the cyclic test, configured from a
-// dict (nested {"specimen": {"diameter": 0.03}} or flat {"specimen.diameter": 0.03}) over a preset,
+// The lab protocols from Python: the NGI simple-shear test, the cyclic test and the periodic
+// cell's element tests, configured from a dict (nested {"specimen": {"diameter": 0.03}} or flat {"specimen.diameter": 0.03}) over a preset,
 // exactly as the apps read --preset and --set; results as NumPy arrays. Stages run with the GIL
 // released; progress lines go to Python's sys.stdout, to a callable or nowhere (progress.hpp).
 #include <pybind11/numpy.h>
@@ -9,6 +9,7 @@
 #include <dem/core/errors.hpp>
 #include <dem/io/csv.hpp>
 #include <dem/lab/protocols/cyclic_shear.hpp>
+#include <dem/lab/protocols/element_test.hpp>
 #include <dem/lab/protocols/simple_shear.hpp>
 
 #include "bindings.hpp"
@@ -41,10 +42,13 @@ void apply(io::Config& config, const py::dict& values, const std::string& sectio
   }
 }
 
+// A preset is the simple-shear app's; a protocol with fewer keys (the element test) takes the ones
+// it has (its material), as its app does.
 io::Config configuration(io::Schema schema, const std::string& preset, const py::dict& values) {
   io::Config config(schema);
   if (!preset.empty())
-    for (const auto& [key, value] : lab::preset_values(preset)) config.set(key, value);
+    for (const auto& [key, value] : lab::preset_values(preset))
+      if (config.schema().find(key) != nullptr) config.set(key, value);
   apply(config, values, "");
   return config;
 }
@@ -98,6 +102,17 @@ struct CyclicShear {
     // to this test's progress.
     test = std::make_unique<lab::CyclicShearTest>(specimen.test->resumable_run(), specimen.test->specimen(),
                                                   lab::cyclic_shear_config(config), &log.stream());
+  }
+};
+
+struct ElementTest {
+  io::Config config;
+  ProgressStream log;
+  std::unique_ptr<lab::ElementTest> test;
+  ElementTest(const py::dict& values, const std::filesystem::path& out, const std::string& preset, const py::object& progress)
+      : config(configuration(lab::element_test_schema(), preset, values)), log(progress, false, "ElementTest") {
+    test = std::make_unique<lab::ElementTest>(lab::element_test_config(config), out, log.stream());
+    test->record_configuration(config);
   }
 };
 
@@ -199,6 +214,56 @@ void bind_lab(py::module_& m) {
              return d;
            }, "How the cyclic stage ended: cycles (N), stop (the criterion), cycles_to_ru and cycles_to_da_strain (N, NaN:\n"
               "never), vertical_stress_initial (Pa), consolidated_height (m), period (s)");
+
+  py::class_<ElementTest>(m, "ElementTest",
+                          "An element test in a periodic cell, as dem-element-test runs it (docs/periodic.md): a specimen of a\n"
+                          "preset's balls compressed isotropically by the cell, then the test's path (isotropic, triaxial drained\n"
+                          "or undrained, simple shear drained or at constant volume, cyclic simple shear) by the cell's velocity\n"
+                          "gradient; history.csv, summary.json and the restart files go to the output folder. Runs with the GIL\n"
+                          "released.")
+      .def(py::init<const py::dict&, const std::filesystem::path&, const std::string&, const py::object&>(),
+           py::arg("config") = py::dict(), py::arg("out") = "runs/element-test", py::arg("preset") = "4D",
+           py::arg("progress") = py::none(),
+           "Sets up the test; nothing is simulated yet.\n\n"
+           "Args:\n"
+           "    config: keys of `dem-element-test --print-config` over the preset's material, nested\n"
+           "        ({\"element\": {\"test\": \"triaxial-drained\"}}) or flat ({\"element.balls\": 500}); SI units.\n"
+           "    out: the output folder.\n"
+           "    preset: '1D', '2D' or '4D' (the study's grading scale and ball-ball contact set), or '' for the keys' defaults.\n"
+           "    progress: where the progress lines go: None (the default) or True sys.stdout, False nowhere, or a\n"
+           "        callable taking each line (str). Ctrl-C, or an exception the callable raises, stops the run at a line.\n\n"
+           "Raises:\n"
+           "    ValueError: an unknown key or a bad value, named with what is allowed.")
+      .def("open_outputs", [](ElementTest& e, bool replace) { e.test->open_outputs({.replace = replace, .program = "libdem (Python)"}); },
+           py::arg("replace") = false,
+           "Claims the output folder (run() does it otherwise).\n\n"
+           "Args:\n"
+           "    replace: remove the files another run wrote there (its manifest.json) instead of refusing the folder.")
+      .def("load_restart", [](ElementTest& e, const std::filesystem::path& f) { e.test->load_restart(f); }, py::arg("file"),
+           "Continues from a restart file of this test, in any stage; once, before run().\n\n"
+           "Args:\n"
+           "    file: a .restart file of dem-element-test or of this class (keys that would change what is done are refused).")
+      .def("run", [](ElementTest& e) {
+             e.log.stream();  // ready again if an exception stopped the last run
+             {
+               py::gil_scoped_release release;
+               e.test->run();
+             }
+             e.log.finish();
+           }, "Whatever remains of the compaction and the test's path, with its outputs, then final.restart.")
+      .def("write_summary", [](ElementTest& e) { e.test->write_summary(e.config.to_json()); },
+           "Writes summary.json: the specimen, the peak and the end (q/p, void ratio, coordination), timing, the configuration.")
+      .def("history", [](const ElementTest& e) {
+             if (e.test->history().rows() == 0) return py::dict();
+             const io::CsvTable& table = e.test->history().table();
+             return columns(table.columns(), table.rows());
+           },
+           "history.csv so far as {column: array}, in the columns' units (SI; stresses compression positive, Pa)")
+      .def_property_readonly("strain_rate", [](const ElementTest& e) { return e.test->strain_rate(); },
+                             "1/s, the path's axial or shear rate (element.strain_rate, or from the inertial number)")
+      .def_property_readonly("world", [](ElementTest& e) -> World& { return e.test->world(); }, py::return_value_policy::reference_internal,
+                             "the test's World (its periodic cell and servo stay the test's)")
+      .def_property_readonly("configuration", [](const ElementTest& e) { return e.config.to_ini(); }, "every key, as INI text");
 }
 
 }  // namespace dem::python

@@ -48,3 +48,26 @@ def test_a_servo_brings_the_cell_to_a_stress_and_the_strain_comes_back_from_the_
     assert strain["volumetric_strain"] < 0  # compressed
     with pytest.raises(ValueError, match="one of xx, yy, zz, yz, xz, xy"):
         servo.set_rate("zx", 0.0)
+
+
+def test_an_element_test_runs_a_drained_triaxial_holding_sigma_3_and_resumes(tmp_path):
+    keys = {"element": {"test": "triaxial-drained", "balls": 200, "target_strain": 0.01, "every_strain": 0.001},
+            "output.restart_every_steps": 10, "engine.threads": 1}
+    test = libdem.ElementTest(keys, out=tmp_path / "tx", preset="4D", progress=False)
+    test.run()
+    test.write_summary()
+    h = test.history()
+    shearing = h["stage"] == 1
+    assert h["axial_strain"][-1] >= 0.01
+    # Drained: the servo holds the lateral stresses at the confining stress (1 %, the protocol's bound).
+    for column in ("cell_stress_xx", "cell_stress_yy"):
+        assert h[column][shearing] == pytest.approx(1e5, rel=0.01)
+    assert h["deviator_stress"][-1] == pytest.approx(h["cell_stress_zz"][-1] - h["cell_stress_xx"][-1], rel=0.02)
+    assert (tmp_path / "tx" / "summary.json").exists()
+    # Resumed from its restart file (keys checked), the run ends where the whole one did.
+    again = libdem.ElementTest(keys, out=tmp_path / "tx2", preset="4D", progress=False)
+    again.load_restart(tmp_path / "tx" / "consolidated.restart")
+    again.run()
+    assert again.history()["deviator_stress"][-1] == h["deviator_stress"][-1]
+    with pytest.raises(ValueError, match="element.test"):
+        libdem.ElementTest({"element.test": "uniaxial"}, out=tmp_path / "bad")
