@@ -99,6 +99,43 @@ TEST_CASE("element test: the isotropic compression ends at the target with equal
   CHECK(testing::file_text(resumed / "history.csv") == testing::file_text(dir / "history.csv"));
 }
 
+TEST_CASE("element test: constant-p holds the mean stress, and extension lengthens zz at the confining stress",
+          "[element-test][periodic]") {
+  // One compressed specimen, loaded from its consolidated.restart along each path.
+  const io::Config keys = small_keys("triaxial-drained");
+  const fs::path made = fresh_dir("paths_made");
+  run_to_end(keys, made);
+  const auto loaded = [&](const std::string& key, const std::string& value, const std::string& name) {
+    io::Config path = keys;
+    path.set(key, value);
+    const fs::path dir = fresh_dir(name);
+    run_to_end(path, dir, made / "consolidated.restart");
+    return io::read_csv(dir / "history.csv");
+  };
+  SECTION("constant p: sigma_xx = sigma_yy = (3 p0 - sigma_zz) / 2 while q rises") {
+    const io::CsvData rows = loaded("element.drained_path", "constant-p", "paths_p");
+    REQUIRE(rows.rows.size() >= 10);
+    for (std::size_t k = 0; k < rows.rows.size(); ++k) {
+      INFO("row " << k);
+      CHECK(std::abs(rows.rows[k][rows.column("mean_stress")] - 100e3) <= 0.01 * 100e3);
+      CHECK(rows.rows[k][rows.column("cell_stress_xx")] == Approx(rows.rows[k][rows.column("cell_stress_yy")]).epsilon(0.01));
+    }
+    CHECK(rows.rows.back()[rows.column("deviator_stress")] > 0.3 * 100e3);
+    CHECK(rows.rows.back()[rows.column("cell_stress_xx")] < 0.9 * 100e3);  // the lateral stress fell
+  }
+  SECTION("extension: the axial strain and q negative, the lateral stresses held") {
+    const io::CsvData rows = loaded("element.direction", "extension", "paths_extension");
+    REQUIRE(rows.rows.size() >= 10);
+    for (std::size_t k = 0; k < rows.rows.size(); ++k) {
+      INFO("row " << k);
+      CHECK(std::abs(rows.rows[k][rows.column("cell_stress_xx")] - 100e3) <= 0.01 * 100e3);
+      CHECK(std::abs(rows.rows[k][rows.column("cell_stress_yy")] - 100e3) <= 0.01 * 100e3);
+    }
+    CHECK(rows.rows.back()[rows.column("axial_strain")] <= -0.01);
+    CHECK(rows.rows.back()[rows.column("deviator_stress")] < -0.2 * 100e3);
+  }
+}
+
 TEST_CASE("element test: a drained triaxial path holds sigma_3 while the axial strain runs, and resumes in each stage",
           "[element-test][periodic][resume]") {
   const io::Config keys = small_keys("triaxial-drained");

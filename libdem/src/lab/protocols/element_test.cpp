@@ -111,7 +111,7 @@ double ElementTest::test_strain() const {
   if (config_.element.test == ElementTestKind::Isotropic) return 1.0 - h.determinant() / h0.determinant();
   if (config_.element.test == ElementTestKind::CyclicSimpleShear) return (run_.world().time() - loading_start_time_) / cyclic_period();
   if (simple_shear(config_.element.test)) return measure::cell_strain(h0, h).deformation_gradient(0, 2);
-  return 1.0 - h(2, 2) / h0(2, 2);
+  return axial_sign() * (1.0 - h(2, 2) / h0(2, 2));
 }
 
 double ElementTest::row_spacing() const {
@@ -124,21 +124,33 @@ double ElementTest::test_end() const {
   return e.test == ElementTestKind::CyclicSimpleShear ? e.cycles : e.target_strain;
 }
 
+double ElementTest::axial_sign() const {
+  return config_.element.direction == TriaxialDirection::Extension ? -1.0 : 1.0;
+}
+
 // The path of element.test on the servo: rates where prescribed, stresses where held.
 void ElementTest::set_path() {
   CellServo& servo = specimen_.servo();
-  const double rate = strain_rate(), stress = config_.element.confining_stress;
+  const double stress = config_.element.confining_stress;
+  const double rate = strain_rate(), axial_rate = axial_sign() * rate;  // zz shortened at +rate in compression
   for (CellComponent shear : {CellComponent::yz, CellComponent::xz, CellComponent::xy}) servo.set_rate(shear, 0.0);
   switch (config_.element.test) {
     case ElementTestKind::Isotropic: break;
     case ElementTestKind::TriaxialDrained:
-      servo.set_stress(CellComponent::xx, stress);
-      servo.set_stress(CellComponent::yy, stress);
-      servo.set_rate(CellComponent::zz, -rate);
+      if (config_.element.drained_path == DrainedPath::ConstantP) {
+        // The lateral target from the last measured sigma_zz (compression positive): p stays put.
+        const auto lateral = [&servo, stress](double) { return 0.5 * (3.0 * stress + servo.stress().stress(2, 2)); };
+        servo.set_stress_path(CellComponent::xx, lateral);
+        servo.set_stress_path(CellComponent::yy, lateral);
+      } else {
+        servo.set_stress(CellComponent::xx, stress);
+        servo.set_stress(CellComponent::yy, stress);
+      }
+      servo.set_rate(CellComponent::zz, -axial_rate);
       break;
     case ElementTestKind::TriaxialUndrained:
-      servo.set_rate(CellComponent::zz, -rate);
-      servo.set_rate(CellComponent::xx, 0.5 * rate);
+      servo.set_rate(CellComponent::zz, -axial_rate);
+      servo.set_rate(CellComponent::xx, 0.5 * axial_rate);
       servo.hold_volume(CellComponent::yy);
       break;
     case ElementTestKind::SimpleShear:
@@ -194,7 +206,9 @@ void ElementTest::record_row() {
   const double strain = test_strain();
   while (next_row_strain_ <= strain + 1e-12) next_row_strain_ += row_spacing();
   if (stage_ != Stage::Loading) return;  // the peak of the loading path (a gas has none worth quoting)
-  const double ratio = history_.last(simple_shear(config_.element.test) ? "shear_stress_ratio" : "stress_ratio");
+  // The peak of |q|/p in extension, where q < 0.
+  const double ratio = simple_shear(config_.element.test) ? history_.last("shear_stress_ratio")
+                                                          : axial_sign() * history_.last("stress_ratio");
   if (ratio > peak_ratio_) peak_ratio_ = ratio, peak_strain_ = strain;
 }
 

@@ -43,6 +43,12 @@ const io::BindingTable<ElementConfig>& element_keys() {
       {"seed", &S::seed, "-", "random seed of the diameters and positions", 0.0, {}, false, made},
       {"density", &S::density, "kg/m^3", "particle density", 1.0, 1e5, false, made},
       {"initial_solid_fraction", &S::initial_solid_fraction, "-", "solid fraction of the gas the balls are placed in", 0.0, 0.5, true, made},
+      {"direction", io::enum_choice({"compression", "extension"}, &S::direction), "-",
+       "triaxial tests: compression (zz shortened; axial strain and q positive) or extension (zz lengthened; both negative, "
+       "target_strain is the magnitude)", {}, {}, false, loaded},
+      {"drained_path", io::enum_choice({"constant-sigma3", "constant-p"}, &S::drained_path), "-",
+       "triaxial-drained: xx and yy hold confining_stress (constant-sigma3), or hold the mean stress p at confining_stress "
+       "(constant-p: sigma_xx = sigma_yy = (3 confining_stress - sigma_zz) / 2)", {}, {}, false, loaded},
       {"compaction_friction", &S::compaction_friction, "-", "ball-ball friction while compressing: 0 a dense specimen, ball_ball's a loose one", 0.0, 10.0, false, compressed},
       {"tolerance", &S::tolerance, "-", "relative error of every stress component that ends the compression", 0.0, 0.5, true, compressed},
       {"equilibrium_ratio", &S::equilibrium_ratio, "-", "unbalanced force ratio that ends the compression", 0.0, 1.0, true, compressed},

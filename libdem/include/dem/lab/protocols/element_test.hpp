@@ -52,6 +52,13 @@ enum class ElementTestKind {
 };
 /// The key's word for `kind` ("triaxial-drained").
 std::string to_string(ElementTestKind kind);
+/// Triaxial tests: zz shortened (compression) or lengthened (extension).
+enum class TriaxialDirection { Compression = 0, Extension = 1 };
+/// triaxial-drained: what the lateral stresses hold.
+enum class DrainedPath {
+  ConstantSigma3 = 0,  // sigma_xx = sigma_yy = confining_stress
+  ConstantP = 1        // sigma_xx = sigma_yy = (3 confining_stress - sigma_zz) / 2: p = confining_stress
+};
 
 /// [element]: the specimen in the cell and the loading path.
 struct ElementConfig {
@@ -66,6 +73,8 @@ struct ElementConfig {
   double density = 2650.0;          // kg/m^3
   double initial_solid_fraction = 0.3;  // -, of the gas the balls are placed in
   double compaction_friction = 0.0;     // -, ball-ball friction while compressing (0: dense)
+  TriaxialDirection direction = TriaxialDirection::Compression;  // triaxial tests
+  DrainedPath drained_path = DrainedPath::ConstantSigma3;         // triaxial-drained
   double tolerance = 0.005;             // -, relative stress error that ends the compression
   double equilibrium_ratio = 1e-2;      // -, unbalanced force ratio that ends it
   double servo_max_rate = 10.0;         // 1/s, cap of the servo's rates
@@ -123,6 +132,7 @@ class ElementTest {
   void start_loading();
   void set_path();
   double test_strain() const;  // -, the one every_strain and target_strain count (cycles when cyclic)
+  double axial_sign() const;   // +1: zz shortened (triaxial compression), -1: lengthened (extension)
   double row_spacing() const;  // of test_strain() between rows
   double test_end() const;     // test_strain() that ends the loading
   /// The cyclic path's target at time t (s): F_xz, F_yz (strain control) or tau_xz, tau_yz (Pa).
