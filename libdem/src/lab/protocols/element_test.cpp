@@ -66,6 +66,9 @@ ElementTest::ElementTest(ElementTestConfig config, std::filesystem::path out_dir
       specimen_(run_, specimen_settings(config_)) {
   run_.set_restart_every(config_.output.restart_every_steps);
   run_.set_progress_every(config_.output.progress_seconds);
+  const ElementConfig& e = config_.element;
+  cyclic_path_ = e.cyclic_path == CyclicShape::Series ? CyclicPath::from_csv(e.cyclic_series_file, cyclic_period())
+                                                      : CyclicPath(e.cyclic_path, e.cyclic_direction_deg, e.cyclic_minor_ratio);
   add_columns();
   run_.keep("stage", [this] { return static_cast<double>(stage_); }, [this](double v) {
     require(v >= 0 && v <= 2 && v == std::floor(v), "restart file: stage", v, "0, 1 or 2");
@@ -95,9 +98,11 @@ double ElementTest::cyclic_period() const {
 
 Vec3 ElementTest::cyclic_target(double time) const {
   const ElementConfig& e = config_.element;
-  const CyclicPath path(e.cyclic_path, e.cyclic_direction_deg, e.cyclic_minor_ratio);
-  const double amplitude = e.cyclic_control == CyclicControl::Strain ? e.strain_amplitude : e.csr * e.confining_stress;
-  return amplitude * path.at(std::max(0.0, (time - loading_start_time_) / cyclic_period()));
+  const bool strain = e.cyclic_control == CyclicControl::Strain;
+  // A series holds the strains or the stress ratios themselves; a drawn shape is in amplitudes.
+  const double amplitude = cyclic_path_.absolute() ? (strain ? 1.0 : e.confining_stress)
+                                                   : (strain ? e.strain_amplitude : e.csr * e.confining_stress);
+  return amplitude * cyclic_path_.at(std::max(0.0, (time - loading_start_time_) / cyclic_period()));
 }
 
 Mat3 ElementTest::reference() const {
@@ -121,7 +126,8 @@ double ElementTest::row_spacing() const {
 
 double ElementTest::test_end() const {
   const ElementConfig& e = config_.element;
-  return e.test == ElementTestKind::CyclicSimpleShear ? e.cycles : e.target_strain;
+  if (e.test != ElementTestKind::CyclicSimpleShear) return e.target_strain;
+  return std::min(e.cycles, cyclic_path_.length_cycles());  // a series ends at its last row
 }
 
 double ElementTest::axial_sign() const {
@@ -164,7 +170,20 @@ void ElementTest::set_path() {
     case ElementTestKind::CyclicSimpleShear: {
       for (CellComponent normal : {CellComponent::xx, CellComponent::yy, CellComponent::zz}) servo.set_rate(normal, 0.0);
       const double dt = run_.world().time_step();
-      if (config_.element.cyclic_control == CyclicControl::Strain) {
+      const bool drained = config_.element.cyclic_drainage == CyclicDrainage::Drained;
+      if (drained) servo.set_stress(CellComponent::zz, stress);
+      if (drained && config_.element.cyclic_control == CyclicControl::Strain) {
+        // sigma_zz held, so L_zz != 0 and dF_xz = dt L_xz F_zz: the rate that lands F_xz (F_yz) on
+        // the path at t + dt from where it is, so the height's change does not drift it off.
+        const auto rate_to = [this, dt](int column) {
+          return [this, dt, column](double t) {
+            const Mat3 f = run_.world().periodic_cell()->matrix() * reference().inverse();
+            return (cyclic_target(t + dt)[column] - f(column, 2)) / (dt * f(2, 2));
+          };
+        };
+        servo.set_rate_path(CellComponent::xz, rate_to(0));
+        servo.set_rate_path(CellComponent::yz, rate_to(1));
+      } else if (config_.element.cyclic_control == CyclicControl::Strain) {
         // With every normal rate and L_xy zero, a step of L_xz (L_yz) adds dt L_xz (dt L_yz) to
         // F_xz (F_yz) exactly (L h is then nilpotent): the rate of the step from t to t + dt that
         // lands the strain on the path at t + dt, so it follows the path with no drift.

@@ -56,8 +56,16 @@ const io::BindingTable<ElementConfig>& element_keys() {
       {"max_compaction_steps", &S::max_compaction_steps, "-", "steps after which the compression ends with a warning", 1.0, 1e12, false, compressed},
       {"cyclic_control", io::enum_choice({"stress", "strain"}, &S::cyclic_control), "-",
        "cyclic-simple-shear: strain (F_xz, F_yz follow the path) or stress (the shear stresses follow it, held by the servo)", {}, {}, false, loaded},
-      {"cyclic_path", io::enum_choice({"sine", "circle", "ellipse", "figure8"}, &S::cyclic_path), "-",
-       "cyclic-simple-shear: the cyclic app's path shape (docs/cyclic-shear.md), in the xz-yz shear plane", {}, {}, false, loaded},
+      {"cyclic_path", io::enum_choice({"sine", "circle", "ellipse", "figure8", "series"}, &S::cyclic_path), "-",
+       "cyclic-simple-shear: the cyclic app's path shape (docs/cyclic-shear.md), in the xz-yz shear plane; series: "
+       "cyclic_series_file", {}, {}, false, loaded},
+      {"cyclic_series_file", &S::cyclic_series_file, "-",
+       "cyclic-simple-shear, path series: CSV with columns cycle (or time, s), x, y: the shear strains F_xz, F_yz (strain "
+       "control) or the shear stresses / confining_stress (stress control); the test ends at its last row or at cycles",
+       {}, {}, false, loaded},
+      {"cyclic_drainage", io::enum_choice({"constant-volume", "drained"}, &S::cyclic_drainage), "-",
+       "cyclic-simple-shear: constant-volume (every normal rate zero) or drained (sigma_zz holds confining_stress)",
+       {}, {}, false, loaded},
       {"strain_amplitude", &S::strain_amplitude, "-", "cyclic-simple-shear, strain control: amplitude of the shear strain", 0.0, 0.5, true, loaded},
       {"csr", &S::csr, "-", "cyclic-simple-shear, stress control: shear stress amplitude / confining_stress", 0.0, 2.0, true, loaded},
       {"cyclic_direction_deg", &S::cyclic_direction_deg, "deg", "direction of the sine, the ellipse's major axis, the figure-8's long axis, from x towards y", -360.0, 360.0, false, loaded},
@@ -104,6 +112,12 @@ ElementTestConfig element_test_config(const io::Config& config) {
       [&](const std::string& section, const std::string&, ContactTypeConfig& value) { value = read_contact_keys(config, section); });
   require(c.grading.d_min <= c.grading.d_max, "grading.d_min", c.grading.d_min, "<= grading.d_max = " + io::real_text(c.grading.d_max));
   c.grading.validate("grading");
+  const bool series = c.element.cyclic_path == CyclicShape::Series;
+  require(!series || !c.element.cyclic_series_file.empty(), "element.cyclic_series_file", "(empty)",
+          "a CSV file when element.cyclic_path = series");
+  require(series || c.element.cyclic_series_file.empty(), "element.cyclic_series_file", c.element.cyclic_series_file,
+          "empty unless element.cyclic_path = series (the file would be ignored)");
+  if (series) (void)CyclicPath::from_csv(c.element.cyclic_series_file, 1.0);  // refused at the door, naming the file
   return c;
 }
 

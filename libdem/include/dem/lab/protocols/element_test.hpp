@@ -81,7 +81,9 @@ struct ElementConfig {
   long max_compaction_steps = 400000;
   // The cyclic simple shear (test = cyclic-simple-shear), keys named as the cyclic app's.
   CyclicControl cyclic_control = CyclicControl::Strain;  // the shear strains or the shear stresses follow the path
-  CyclicShape cyclic_path = CyclicShape::Sine;           // sine, circle, ellipse or figure8
+  CyclicShape cyclic_path = CyclicShape::Sine;           // sine, circle, ellipse, figure8 or series
+  std::string cyclic_series_file;                        // series: CSV of cycle (or time, s), x, y
+  CyclicDrainage cyclic_drainage = CyclicDrainage::ConstantVolume;  // or drained: sigma_zz held
   double strain_amplitude = 0.001;   // -, of F_xz (and F_yz), strain control
   double csr = 0.1;                  // -, shear stress amplitude / confining_stress, stress control
   double cyclic_direction_deg = 0.0; // deg, of the sine, the ellipse's major axis, the figure-8's long axis
@@ -152,6 +154,7 @@ class ElementTest {
   double next_row_strain_ = 0.0;
   double loading_start_time_ = 0.0;  // s, the World's time when the loading began (the cycles count from it)
   double peak_ratio_ = 0.0, peak_strain_ = 0.0;  // q/p (|tau|/sigma_zz in simple shear), the test's strain
+  CyclicPath cyclic_path_{CyclicShape::Sine, 0.0, 0.0};  // element.cyclic_path, read once (a series from its file)
 };
 
 }  // namespace dem::lab
