@@ -194,3 +194,34 @@ TEST_CASE("fabric: bad input", "[measure][fabric]") {
   CHECK(std::isnan(r.a_direct));
   CHECK(std::isnan(r.mean_force_all));
 }
+
+TEST_CASE("fabric: the left-right asymmetry of a rose about the vertical, and its tilt", "[measure][fabric]") {
+  // Normals in the x-z plane at angle theta from +x (the rose's angle), force f.
+  const auto at = [](double theta_deg, double force) {
+    const double t = theta_deg * M_PI / 180.0;
+    return ContactSample{Vec3(std::cos(t), 0.0, std::sin(t)), force};
+  };
+  // Mirror pairs about 90 deg (75/105, 45/135) with equal forces: symmetric.
+  const std::vector<ContactSample> mirrored = {at(75, 1.0), at(105, 1.0), at(45, 2.0), at(135, 2.0), at(90.5, 3.0), at(89.5, 3.0)};
+  const auto symmetric = dem::measure::rose_asymmetry(dem::measure::rose(mirrored, RosePlane::ShearXZ));
+  CHECK(symmetric.count == 0.0);
+  CHECK(symmetric.force == 0.0);
+  // Every normal on one side of the vertical: each pair differs by its whole count.
+  const std::vector<ContactSample> one_side = {at(75, 1.0), at(45, 2.0), at(15, 3.0)};
+  const auto lopsided = dem::measure::rose_asymmetry(dem::measure::rose(one_side, RosePlane::ShearXZ));
+  CHECK(lopsided.count == Approx(1.0).epsilon(1e-12));
+  CHECK(lopsided.force == Approx(1.0).epsilon(1e-12));
+  // Two normals in [60, 70), one in its mirror bin [110, 120) with twice the force: counts 2
+  // against 1 (|2 - 1| / 3), mean forces 1 against 2 (|1 - 2| / 3).
+  const std::vector<ContactSample> uneven = {at(62, 1.0), at(63, 1.0), at(115, 2.0)};
+  const auto a = dem::measure::rose_asymmetry(dem::measure::rose(uneven, RosePlane::ShearXZ));
+  CHECK(a.count == Approx(1.0 / 3.0).epsilon(1e-12));
+  CHECK(a.force == Approx(1.0 / 3.0).epsilon(1e-12));
+  // The tilt: a fabric in the one bin [60, 70) leans 25 deg (its centre's) from the vertical
+  // towards +x, by the binned Fourier fit.
+  std::vector<ContactSample> leaning;
+  for (int k = -4; k <= 4; ++k) leaning.push_back(at(65.0 + k, 1.0));
+  const auto tilt = dem::measure::rose_asymmetry(dem::measure::rose(leaning, RosePlane::ShearXZ));
+  CHECK(tilt.count_tilt_deg == Approx(25.0).margin(1e-9));
+  CHECK(std::isnan(dem::measure::rose_asymmetry(dem::measure::rose({}, RosePlane::ShearXZ)).count));
+}

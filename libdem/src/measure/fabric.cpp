@@ -194,4 +194,22 @@ Mat3 fabric_tensor(const std::vector<ContactSample>& contacts) {
   return sum / static_cast<double>(contacts.size());
 }
 
+RoseAsymmetry rose_asymmetry(const Rose& r) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  if (r.contacts_used == 0) return {nan, nan, nan, nan};
+  const std::size_t n = r.count.size();  // bins of equal width from 0: bin m mirrors bin n - 1 - m
+  double count_diff = 0.0, count_sum = 0.0, force_diff = 0.0, force_sum = 0.0;
+  for (std::size_t m = 0; m < n; ++m) {
+    const std::size_t mirror = n - 1 - m;
+    count_sum += static_cast<double>(r.count[m]);
+    force_sum += r.mean_normal_force[m];
+    if (m < mirror) {
+      count_diff += std::abs(static_cast<double>(r.count[m] - r.count[mirror]));
+      force_diff += std::abs(r.mean_normal_force[m] - r.mean_normal_force[mirror]);
+    }
+  }
+  const auto tilt = [](double theta_deg) { return 90.0 - theta_deg; };  // from the vertical, towards +x
+  return {count_diff / count_sum, force_sum > 0.0 ? force_diff / force_sum : nan, tilt(r.theta_a_deg), tilt(r.theta_n_deg)};
+}
+
 }  // namespace dem::measure

@@ -61,6 +61,19 @@ struct Rose {
 /// Not thread safe: see the note at the top of this header.
 Rose rose(const std::vector<ContactSample>& contacts, RosePlane plane, double bin_width_deg = 10.0);
 
+/// How far a rose is from mirror symmetry about 90 degrees (the vertical, in the x-z and y-z
+/// planes): the left-right asymmetry the study reads in its 4D roses. Each bin [lo, lo + w) is set
+/// against its mirror [180 - lo - w, 180 - lo):
+///   count = sum over pairs |c - c_mirror| / sum of c         (0: symmetric, 1: one side only)
+///   force = sum over pairs |f - f_mirror| / sum of f         (f: the bins' mean normal force)
+/// and the tilts of the Fourier principal directions from the vertical (90 - theta, degrees in
+/// (-90, 90]; positive towards the plane's first axis, +x in x-z). NaN where the rose has no contact.
+struct RoseAsymmetry {
+  double count, force;                   // -
+  double count_tilt_deg, force_tilt_deg; // degrees
+};
+RoseAsymmetry rose_asymmetry(const Rose& rose);
+
 /// Fabric tensor phi_ij = (1/N) sum_c n_i n_j (dimensionless, symmetric, trace 1).
 /// Throws InputError for an empty sample or a normal that is not a finite unit vector.
 Mat3 fabric_tensor(const std::vector<ContactSample>& contacts);

@@ -48,13 +48,16 @@ void SimpleShearTest::write_summary(const std::string& resolved_config_json) con
     io::Json f;
     const auto& last = rows.back();
     for (const char* name : {"shear_strain", "shear_stress", "vertical_stress", "volumetric_strain", "sigma_1", "sigma_2",
-                             "sigma_3", "principal_rotation_deg", "contacts", "mean_contact_force", "coordination_number", "k0"})
+                             "sigma_3", "principal_rotation_deg", "contacts", "mean_contact_force", "coordination_number", "k0",
+                             "rose_count_asymmetry", "rose_force_asymmetry", "rose_count_tilt_deg", "rose_force_tilt_deg",
+                             "layer_stress_spread"})
       f[name] = last[col(name)];
     j["final"] = f;
     io::Json c;
     const auto& first = rows.front();
     for (const char* name : {"vertical_stress", "lateral_stress", "k0", "contacts", "mean_contact_force", "porosity",
-                             "coordination_number", "sigma_1", "sigma_3"})
+                             "coordination_number", "sigma_1", "sigma_3", "rose_count_asymmetry", "rose_force_asymmetry",
+                             "rose_count_tilt_deg", "rose_force_tilt_deg", "layer_stress_spread"})
       c[name] = first[col(name)];
     j["after_consolidation"] = c;
   }

@@ -6,6 +6,7 @@
 #include <dem/core/pair_geometry.hpp>
 #include <dem/lab/toolkit/fabric_log.hpp>
 #include <dem/lab/toolkit/snapshots.hpp>
+#include <dem/measure/fabric.hpp>
 #include <dem/measure/shear_uniformity.hpp>
 
 namespace dem::lab {
@@ -148,6 +149,17 @@ void ShearOutputs::add_columns() {
   history_.add("non_coaxiality_deg", [&s, direction] {
     return measure::non_coaxiality_deg(Mat3(-s.sphere.stress), Mat3(-s.sphere.strain_rate), direction());
   });
+  // The left-right asymmetry of the ball-ball roses in the x-z plane about the vertical, and
+  // their tilts (measure/fabric.hpp): the inhomogeneity the study reads in its 4D roses.
+  history_.add({"rose_count_asymmetry", "rose_force_asymmetry", "rose_count_tilt_deg", "rose_force_tilt_deg"},
+               [&world](std::vector<double>& row) {
+                 std::vector<measure::ContactSample> contacts;
+                 world.for_each_contact([&](const ContactView& c) {
+                   if (c.kind == ContactKind::BallBall && c.normal_force > 0.0) contacts.push_back({c.normal, c.normal_force});
+                 });
+                 const measure::RoseAsymmetry a = measure::rose_asymmetry(measure::rose(contacts, measure::RosePlane::ShearXZ));
+                 row.insert(row.end(), {a.count, a.force, a.count_tilt_deg, a.force_tilt_deg});
+               });
   uniformity_ = std::make_unique<UniformityProbe>(world, specimen_.cell(), config.measure.profile_bins);
   uniformity_->add_columns(history_, direction);
   add_ring_columns(history_, world, specimen_.cell());

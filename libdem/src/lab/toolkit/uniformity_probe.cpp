@@ -16,7 +16,7 @@ constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 
 // tau_dz / sigma_zz of a compression-positive stress, NaN if the sphere held no ball.
 struct Layer {
-  double stress_ratio = nan, porosity = nan;
+  double stress_ratio = nan, porosity = nan, vertical_stress = nan;  // -, -, Pa
 };
 
 Layer layer_at(const World& w, const Vec3& centre, double radius, const Vec3& d) {
@@ -28,7 +28,7 @@ Layer layer_at(const World& w, const Vec3& centre, double radius, const Vec3& d)
   if (!any) return {};  // a 4D specimen has few balls per layer: a missing value, not an error
   const SphereMeasurement m = dem::measure::measure(w, sphere);
   const Mat3 c = -m.stress;
-  return {c(2, 2) != 0.0 ? d.dot(c * Vec3::UnitZ()) / c(2, 2) : nan, m.porosity};
+  return {c(2, 2) != 0.0 ? d.dot(c * Vec3::UnitZ()) / c(2, 2) : nan, m.porosity, c(2, 2)};
 }
 
 std::vector<std::string> probe_columns(int bins) {
@@ -43,6 +43,7 @@ std::vector<std::string> probe_columns(int bins) {
                                 "top_dy"};
   for (const char* layer : {"bottom", "middle", "top"})
     for (const char* what : {"stress_ratio", "porosity"}) c.push_back(std::string("layer_") + layer + "_" + what);
+  c.push_back("layer_stress_spread");
   for (int b = 0; b < bins; ++b) c.push_back("profile_u_" + std::to_string(b + 1));
   for (int b = 0; b < bins; ++b) c.push_back("profile_porosity_" + std::to_string(b + 1));
   return c;
@@ -91,13 +92,19 @@ void UniformityProbe::measure(const Vec3& d, std::vector<double>& out) {
                          uniformity.top_third_strain, uniformity.top_bottom_strain_ratio, bottom.displacement.x(),
                          bottom.displacement.y(), top.displacement.x(), top.displacement.y()});
   // Layers: three spheres filling the thirds, each at the uniform-shear position of its centre.
+  double lowest = std::numeric_limits<double>::infinity(), highest = -lowest, sum = 0.0;
   for (int third = 0; third < 3; ++third) {
     const double fraction = (2 * third + 1) / 6.0;
     Vec3 centre = bottom.displacement + fraction * (top.displacement - bottom.displacement);
     centre.z() = z_bottom + fraction * (z_top - z_bottom);
     const Layer layer = layer_at(w, centre, (z_top - z_bottom) / 6, d);
     out.insert(out.end(), {layer.stress_ratio, layer.porosity});
+    lowest = std::min(lowest, layer.vertical_stress), highest = std::max(highest, layer.vertical_stress);
+    sum += layer.vertical_stress;
   }
+  // The stress-concentration index: how far the layers' vertical stresses spread, (max - min) / mean
+  // (NaN when a layer holds no ball: its NaN stress makes the sum NaN).
+  out.push_back(std::isnan(sum) || sum <= 0.0 ? nan : 3.0 * (highest - lowest) / sum);
   out.insert(out.end(), bins.begin(), bins.end());
   // The porosity of the same height bins, now: where the specimen is looser or dilates.
   std::vector<double> z_now, r_now;

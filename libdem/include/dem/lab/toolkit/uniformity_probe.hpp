@@ -32,7 +32,8 @@ class UniformityProbe {
 
   /// Adds the probe's columns to `log`: profile_r2, strain_bottom_third, strain_middle_third,
   /// strain_top_third, top_bottom_strain_ratio, bottom_dx, bottom_dy, top_dx, top_dy,
-  /// layer_{bottom,middle,top}_{stress_ratio,porosity}, profile_u_1..bins (m),
+  /// layer_{bottom,middle,top}_{stress_ratio,porosity}, layer_stress_spread ((max - min) / mean
+  /// of the three layers' vertical stresses: a stress-concentration index), profile_u_1..bins (m),
   /// profile_porosity_1..bins. `direction` gives the shear direction at a row (a unit vector in
   /// x-y). Each row starts the next interval. Values not defined at a row are NaN: the first row
   /// and a row after a pause (the plates did not move apart) have no profile; a layer sphere that
