@@ -77,6 +77,8 @@ TEST_CASE("instability: below the stable step, a soft contact type beside stiff 
     CHECK_THAT(msg, Contains("overlaps wall 'floor'") && Contains("below the stable estimate") &&
                         Contains("not the cause") && Contains("set by the stiffest contact type, ball-ball") &&
                         Contains("ball-facet contacts are too soft"));
+    // The law and the key that stiffens it, as the configuration names them.
+    CHECK_THAT(msg, Contains("N/m (linear)") && Contains("raise the ball-facet effective_modulus (law linear)"));
     CHECK_THAT(msg, !Contains("Reduce time_step"));
   }
 }

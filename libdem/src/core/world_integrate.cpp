@@ -300,6 +300,19 @@ void World::check_stability(const WorstOverlap& worst) {
   fail(what.str(), ball, kind);
 }
 
+namespace {
+
+// The key that sets a law's stiffness, as the configuration names it.
+std::string stiffness_key(const ContactModel* model) {
+  if (model == nullptr) return "stiffness";
+  const std::string law = model->law_name();
+  if (law.starts_with("hertz")) return "youngs_modulus (law " + law + ")";
+  if (law == "linear" || law == "rolling-linear") return "effective_modulus (law " + law + ")";
+  return "stiffness (law " + law + ")";
+}
+
+}  // namespace
+
 void World::fail(const std::string& what, std::size_t i, std::optional<ContactKind> kind) const {
   std::ostringstream msg;
   msg.precision(4);
@@ -327,7 +340,7 @@ void World::fail(const std::string& what, std::size_t i, std::optional<ContactKi
     c.effective_radius = k == ContactKind::BallFacet ? c.radius_1 : c.radius_1 / 2;
     c.normal = Vec3::UnitZ();
     const double kn = model->stiffness(c).normal;
-    stiffness << (stiffness.tellp() > 0 ? ", " : "") << to_string(k) << " " << kn << " N/m";
+    stiffness << (stiffness.tellp() > 0 ? ", " : "") << to_string(k) << " " << kn << " N/m (" << model->law_name() << ")";
     if (kn > stiffest_k) stiffest_k = kn, stiffest = k;
   }
   if (!std::isfinite(critical) || stiffness.tellp() == 0) {
@@ -343,11 +356,12 @@ void World::fail(const std::string& what, std::size_t i, std::optional<ContactKi
     msg << ", so the step is not the cause. Normal stiffness for this ball: " << stiffness.str() << ". Likely cause: ";
     if (kind && stiffest && *kind != *stiffest)
       msg << "the " << to_string(*kind) << " contacts are too soft for the load on them beside the stiffer "
-          << to_string(*stiffest) << " contacts: raise the " << to_string(*kind)
-          << " effective modulus, or lower the load or the loading speed.";
+          << to_string(*stiffest) << " contacts: raise the " << to_string(*kind) << " "
+          << stiffness_key(contact_model(*kind)) << ", or lower the load or the loading speed.";
     else
       msg << "the load (a wall's speed or stress, or gravity) is too large for the contact stiffness: overlaps grow "
-             "without bound. Raise the effective modulus, or lower the load or the loading speed.";
+             "without bound. Raise the " << to_string(kind.value_or(ContactKind::BallBall)) << " "
+          << stiffness_key(contact_model(kind.value_or(ContactKind::BallBall))) << ", or lower the load or the loading speed.";
   }
   throw InstabilityError(msg.str());
 }
