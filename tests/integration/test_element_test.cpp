@@ -212,13 +212,23 @@ TEST_CASE("element test: the constant-volume paths keep the cell's volume to 1e-
       ElementTest run(element_test_config(keys), dir, log);
       run.record_configuration(keys);
       run.run();
-      const io::CsvData rows = io::read_csv(dir / "history.csv");
+      const io::CsvData rows = io::read_csv(dir / "history.csv", io::Missing::Allowed);  // profile_r2 of the first row
       REQUIRE(rows.rows.size() >= 10);
       for (const auto& r : rows.rows) CHECK(std::abs(r[rows.column("volumetric_strain")]) <= 1e-9);
       const std::string strain = std::string(test) == "triaxial-undrained" ? "axial_strain" : "shear_strain";
       CHECK(rows.rows.back()[rows.column(strain)] >= 0.01);
       if (strain == "axial_strain") CHECK(std::abs(rows.rows.back()[rows.column("mean_stress")] - 100e3) > 1e3);  // p moves
       else CHECK(rows.rows.back()[rows.column("shear_stress")] > 0.1 * 100e3);  // resisting the shear
+      if (strain == "shear_strain") {
+        // The profile's start is kept in the restart files: killed mid-shear and resumed, the
+        // same history, profile_r2 included.
+        CHECK(rows.rows.back()[rows.column("profile_r2")] > 0.5);
+        const auto middle = static_cast<std::int64_t>(rows.rows[rows.rows.size() / 2][rows.column("step")]);
+        const fs::path resumed = fresh_dir(std::string(test) + "_resumed");
+        CHECK_THROWS_WITH(run_to_end(keys, resumed, {}, middle + 3), Contains("stopped"));
+        run_to_end(keys, resumed, resumed / "restart.restart");
+        CHECK(testing::file_text(resumed / "history.csv") == testing::file_text(dir / "history.csv"));
+      }
     }
   }
 }

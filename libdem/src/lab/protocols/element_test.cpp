@@ -24,6 +24,8 @@ namespace dem::lab {
 namespace {
 
 constexpr std::int64_t loading_chunk_steps = 10;  // steps between tests of the row and end strains
+constexpr int profile_bins = 12;
+constexpr double span_from = 0.2;  // the simple shears' uniformity over the NGI cell's span, from 20 % to the end  // height bins of the simple shears' displacement profile (as the NGI cell's)
 
 PeriodicSpecimenSettings specimen_settings(const ElementTestConfig& c) {
   const ElementConfig& e = c.element;
@@ -339,6 +341,23 @@ void ElementTest::add_columns() {
   const int index[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
   for (int k = 0; k < 6; ++k) h.add(names[k], [row, a = index[k][0], b = index[k][1]] { return row->sigma(a, b); });
   h.add("unbalanced_force_ratio", [&w] { return w.unbalanced_force_ratio(); });
+  const ElementTestKind kind = config_.element.test;
+  if (kind == ElementTestKind::SimpleShear || kind == ElementTestKind::SimpleShearUndrained) {  // the others' columns stay
+    // R^2 of the displacement profile since the last row against uniform shear; each row starts
+    // the next interval (kept in the restart files, so a resumed run measures the same).
+    h.add("profile_r2", [this, &w] {
+      const double r2 = stage_ == Stage::Loading ? periodic_profile_r2(w, profile_start_, profile_bins) : std::nan("");
+      profile_start_ = periodic_interval(w);
+      if (stage_ == Stage::Loading && span_start_.reduced.empty() && test_strain() >= span_from - 1e-12)
+        span_start_ = profile_start_, span_from_strain_ = test_strain();
+      return r2;
+    });
+    for (auto [name, interval] : {std::pair{"profile", &profile_start_}, std::pair{"span", &span_start_}}) {
+      run_.keep_points(std::string(name) + "_reference", interval->reduced);
+      for (int k = 0; k < 9; ++k) run_.keep(std::string(name) + "_cell_" + std::to_string(k), interval->cell(k / 3, k % 3));
+    }
+    run_.keep("span_from_strain", span_from_strain_);
+  }
   if (config_.cementation.after == CementAfter::None) return;  // a plain run's columns stay as they were
   h.add("bonds_intact", [&w] { return static_cast<double>(w.bonds().count(BondStatus::intact)); });
   h.add("bonds_broken_tension", [&w] { return static_cast<double>(w.bonds().count(BondStatus::broken_tension)); });
@@ -360,6 +379,11 @@ void ElementTest::write_summary(const std::string& resolved_config_json) const {
       f[name] = history_.last(name);
     j["final"] = f;
   }
+  // The profile of the whole span from 20 % to the end against uniform shear: the NGI cell's
+  // "R^2 20-40 %" (summary.json's uniformity there) when the test ends at 40 %.
+  if (!span_start_.reduced.empty())
+    j["uniformity"] = {{"from_strain", span_from_strain_}, {"to_strain", history_.last("shear_strain")},
+                       {"profile_r2", periodic_profile_r2(run_.world(), span_start_, profile_bins)}};
   save_summary(run_, j, resolved_config_json, run_.wall_seconds());
 }
 

@@ -41,6 +41,7 @@
 #include <dem/lab/toolkit/cyclic_path.hpp>
 #include <dem/lab/toolkit/grading.hpp>
 #include <dem/lab/toolkit/history_log.hpp>
+#include <dem/lab/toolkit/periodic_profile.hpp>
 #include <dem/lab/toolkit/periodic_specimen.hpp>
 #include <dem/lab/toolkit/run.hpp>
 #include <dem/lab/toolkit/simple_shear_config.hpp>
@@ -155,6 +156,9 @@ class ElementTest {
   double loading_start_time_ = 0.0;  // s, the World's time when the loading began (the cycles count from it)
   double peak_ratio_ = 0.0, peak_strain_ = 0.0;  // q/p (|tau|/sigma_zz in simple shear), the test's strain
   CyclicPath cyclic_path_{CyclicShape::Sine, 0.0, 0.0};  // element.cyclic_path, read once (a series from its file)
+  PeriodicInterval profile_start_;  // the simple shears' profile: where the balls were at the last row
+  PeriodicInterval span_start_;     // ... and at the first row at 20 % shear strain (the NGI cell's span)
+  double span_from_strain_ = 0.0;   // -, the shear strain of that row
 };
 
 }  // namespace dem::lab
