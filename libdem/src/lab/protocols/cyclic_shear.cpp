@@ -179,6 +179,7 @@ void CyclicShearTest::run() {
   const auto t0 = std::chrono::steady_clock::now();
   World& w = run_.world();
   if (step_ == Step::Start) {
+    specimen_.cement(CementAfter::Consolidation);  // consolidated.restart, written before, is the plain specimen
     begin();
     current_phase_ = CyclicPhase::Static;
     record_row();

@@ -57,6 +57,7 @@ void CyclicShearTest::add_history_columns() {
   h.add("non_coaxiality_deg", [this] { return row_.non_coaxiality_deg; });
   h.add("kinetic_energy", [&s] { return s.kinetic_energy; });
   h.add("balls_outside", [&s] { return static_cast<double>(s.balls_outside); });
+  if (specimen_.config().cementation.after != CementAfter::None) add_bond_columns(h, run_.world());  // only when cemented
 }
 
 void CyclicShearTest::record_row() {

@@ -307,9 +307,7 @@ void ElementTest::add_columns() {
   for (int k = 0; k < 6; ++k) h.add(names[k], [row, a = index[k][0], b = index[k][1]] { return row->sigma(a, b); });
   h.add("unbalanced_force_ratio", [&w] { return w.unbalanced_force_ratio(); });
   if (config_.cementation.after == CementAfter::None) return;  // a plain run's columns stay as they were
-  h.add("bonds_intact", [&w] { return static_cast<double>(w.bonds().count(BondStatus::intact)); });
-  h.add("bonds_broken_tension", [&w] { return static_cast<double>(w.bonds().count(BondStatus::broken_tension)); });
-  h.add("bonds_broken_shear", [&w] { return static_cast<double>(w.bonds().count(BondStatus::broken_shear)); });
+  add_bond_columns(h, w);
 }
 
 void ElementTest::write_summary(const std::string& resolved_config_json) const {

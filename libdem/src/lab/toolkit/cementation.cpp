@@ -86,4 +86,11 @@ std::size_t cement(World& world, const ParallelBondMaterial& material, double ga
   return made;
 }
 
+void add_bond_columns(HistoryLog& h, const World& w) {
+  h.add("bonds_intact", [&w] { return static_cast<double>(w.bonds().count(BondStatus::intact)); });
+  h.add("bonds_broken_tension", [&w] { return static_cast<double>(w.bonds().count(BondStatus::broken_tension)); });
+  h.add("bonds_broken_shear", [&w] { return static_cast<double>(w.bonds().count(BondStatus::broken_shear)); });
+  h.add("bond_energy_released_J", [&w] { return w.bonds().released_energy(); });
+}
+
 }  // namespace dem::lab

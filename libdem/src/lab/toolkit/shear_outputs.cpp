@@ -4,6 +4,7 @@
 #include <optional>
 
 #include <dem/core/pair_geometry.hpp>
+#include <dem/lab/toolkit/cementation.hpp>
 #include <dem/lab/toolkit/fabric_log.hpp>
 #include <dem/lab/toolkit/snapshots.hpp>
 #include <dem/measure/shear_uniformity.hpp>
@@ -148,6 +149,7 @@ void ShearOutputs::add_columns() {
   uniformity_ = std::make_unique<UniformityProbe>(world, specimen_.cell(), config.measure.profile_bins);
   uniformity_->add_columns(history_, direction);
   add_ring_columns(history_, world, specimen_.cell());
+  if (config.cementation.after != CementAfter::None) add_bond_columns(history_, world);  // a plain run's columns stay as they were
 }
 
 }  // namespace dem::lab
