@@ -328,6 +328,7 @@ TEST_CASE("cyclic shear: a plain consolidated specimen cemented for the cycles c
   CHECK(last[rows.column("bonds_intact")] + broken == static_cast<double>(made));
   CHECK(broken > 0.0);
   CHECK(last[rows.column("bond_energy_released_J")] > 0.0);
+  CHECK(fs::exists(whole.path / "cyclic_snapshots" / "broken_bonds_cycle_1.vtp"));
   // Killed in the middle of the cycle, resumed from its restart file: the same files, the bonds
   // installed once.
   std::vector<double> steps;
@@ -341,6 +342,6 @@ TEST_CASE("cyclic shear: a plain consolidated specimen cemented for the cycles c
   run_to_end(dir.path, dir.path / "restart.restart", 0);
   CHECK_THAT(log_text, !Contains("cemented at step"));
   CHECK(bonds == made);
-  for (const char* file : {"cyclic_history.csv", "cycles.csv", "cyclic_snapshots/snapshots.csv"})
+  for (const char* file : {"cyclic_history.csv", "cycles.csv", "cyclic_snapshots/snapshots.csv", "cyclic_snapshots/broken_bonds_cycle_1.vtp"})
     CHECK(dem::testing::file_text(dir.path / file) == dem::testing::file_text(whole.path / file));
 }

@@ -177,6 +177,9 @@ TEST_CASE("simple shear: a cemented specimen counts its bonds; its plain consoli
     CHECK(resumed_log.str().find("cemented at step") == std::string::npos);
   }
   CHECK(file_text(killed / "history.csv") == file_text(whole / "history.csv"));
+  const std::string vtp = file_text(whole / "snapshots/broken_bonds_strain_01.0.vtp");  // the bonds broken by 1 %
+  CHECK_THAT(vtp, Contains("shear_strain_broken") && Contains("energy_released_J") && !Contains("NumberOfPoints=\"0\""));
+  CHECK(file_text(killed / "snapshots/broken_bonds_strain_01.0.vtp") == vtp);
 }
 
 TEST_CASE("simple shear: bad configuration values are refused with the key and what is allowed", "[simple-shear]") {

@@ -12,6 +12,7 @@
 
 #include <dem/core/errors.hpp>
 #include <dem/lab/protocols/simple_shear.hpp>
+#include <dem/lab/toolkit/broken_bonds.hpp>
 #include <dem/lab/toolkit/fabric_log.hpp>
 #include <dem/lab/toolkit/snapshots.hpp>
 
@@ -217,8 +218,11 @@ void CyclicShearTest::run() {
         outcome_.cycles_to_ru = n;
       if (config_.da_strain_limit > 0 && last_double_amplitude_ >= config_.da_strain_limit && std::isnan(outcome_.cycles_to_da_strain))
         outcome_.cycles_to_da_strain = n;
-      while (next_snapshot_ < config_.snapshot_cycles.size() && n >= config_.snapshot_cycles[next_snapshot_] - 1e-12)
-        snapshots_->write(w, cycle_label(config_.snapshot_cycles[next_snapshot_++]), w.time(), last_sample_.strain.norm());
+      while (next_snapshot_ < config_.snapshot_cycles.size() && n >= config_.snapshot_cycles[next_snapshot_] - 1e-12) {
+        const std::string label = cycle_label(config_.snapshot_cycles[next_snapshot_++]);
+        snapshots_->write(w, label, w.time(), last_sample_.strain.norm());
+        if (broken_bonds_) broken_bonds_->write_vtp(w, snapshots_->directory() / ("broken_bonds_" + label + ".vtp"));
+      }
       while (next_fabric_ < config_.fabric_cycles.size() && n >= config_.fabric_cycles[next_fabric_] - 1e-12)
         fabric_->record(w, cycle_label(config_.fabric_cycles[next_fabric_++]), last_sample_.strain.norm());
       write_outputs();
