@@ -279,8 +279,7 @@ std::string Calibration::setup_text() const {
       << " slope_stress_fraction " << detail::exact_text(settings_.slope_stress_fraction) << "\n"
       << "modulus_specimen " << (settings_.modulus_specimen == ModulusSpecimen::Generated ? "generated" : "reconsolidated") << "\n";
   std::istringstream ini(shear_config_with(config_, start_).to_ini());
-  // Uncemented specimens leave [cementation] out: the setup of a calibration begun before those
-  // keys existed, so that its trials.csv goes on.
+  // An uncemented specimen's setup leaves [cementation] out, as it was before those keys existed.
   const bool plain = config_.exact_text("cementation.after") == "none";
   bool in_cementation = false;
   for (std::string line; std::getline(ini, line);) {
