@@ -290,3 +290,69 @@ TEST_CASE("cyclic shear: a run stopped in any stage resumes from its restart fil
     }
   }
 }
+
+TEST_CASE("cyclic shear: a plain consolidated specimen cemented for the cycles counts its bonds and resumes after a kill",
+          "[cyclic][integration][resume][bond]") {
+  Consolidated base("cyclic_cemented");  // plain: its consolidated.restart has no bonds
+  const auto specimen = [] {
+    io::Config keys = dem::testing::reduced_specimen();
+    keys.set("output.restart_every_steps", "400");
+    keys.set("cementation.after", "consolidation");
+    keys.set("cementation.tensile_strength", "2e5");  // Pa: weak, most break within the first cycle
+    keys.set("cementation.cohesion", "2e5");
+    return simple_shear_config(keys);
+  };
+  CyclicShearConfig c;
+  c.control = CyclicControl::Strain;
+  c.strain_amplitude = 0.01;
+  c.max_cycles = 1;
+  c.rows_per_cycle = 20;
+  c.snapshot_cycles = {1.0};
+  std::size_t bonds = 0;
+  std::string log_text;
+  const auto run_to_end = [&](const fs::path& dir, const fs::path& from, std::int64_t stop_at_step) {
+    std::ostringstream log;
+    CyclicShearTest test(specimen(), c, dir, log);
+    if (stop_at_step > 0)
+      test.world().add_controller([stop_at_step](World& w) {
+        if (w.step_count() == stop_at_step) throw std::runtime_error("stopped");
+      });
+    test.load_restart(from);
+    test.open_outputs();
+    try {
+      test.run();
+    } catch (...) {
+      log_text = log.str();
+      throw;
+    }
+    log_text = log.str();
+    bonds = test.world().bonds().size();
+  };
+  const dem::testing::TempDir whole("cyclic_cemented_whole");
+  run_to_end(whole.path, base.dir.path / "consolidated.restart", 0);
+  CHECK_THAT(log_text, Contains("cemented at step"));
+  const std::size_t made = bonds;
+  CHECK(made > 100);
+  const io::CsvData rows = io::read_csv(whole.path / "cyclic_history.csv", io::Missing::Allowed);
+  const auto& last = rows.rows.back();
+  const double broken = last[rows.column("bonds_broken_tension")] + last[rows.column("bonds_broken_shear")];
+  CHECK(last[rows.column("bonds_intact")] + broken == static_cast<double>(made));
+  CHECK(broken > 0.0);
+  CHECK(last[rows.column("bond_energy_released_J")] > 0.0);
+  CHECK(fs::exists(whole.path / "cyclic_snapshots" / "broken_bonds_cycle_1.vtp"));
+  // Killed in the middle of the cycle, resumed from its restart file: the same files, the bonds
+  // installed once.
+  std::vector<double> steps;
+  for (const auto& r : rows.rows)
+    if (r[rows.column("phase")] == 1.0) steps.push_back(r[rows.column("step")]);
+  REQUIRE(steps.size() >= 3);
+  const auto stop = static_cast<std::int64_t>(steps[steps.size() / 2]) + 7;
+  const dem::testing::TempDir dir("cyclic_cemented_killed");
+  CHECK_THROWS_WITH(run_to_end(dir.path, base.dir.path / "consolidated.restart", stop), Contains("stopped"));
+  REQUIRE(fs::exists(dir.path / "restart.restart"));
+  run_to_end(dir.path, dir.path / "restart.restart", 0);
+  CHECK_THAT(log_text, !Contains("cemented at step"));
+  CHECK(bonds == made);
+  for (const char* file : {"cyclic_history.csv", "cycles.csv", "cyclic_snapshots/snapshots.csv", "cyclic_snapshots/broken_bonds_cycle_1.vtp"})
+    CHECK(dem::testing::file_text(dir.path / file) == dem::testing::file_text(whole.path / file));
+}

@@ -120,12 +120,76 @@ TEST_CASE("simple shear: same seed gives the same history, and a resumed run equ
   CHECK(file_text(resumed / "fabric.csv") == file_text(a / "fabric.csv"));
 }
 
+TEST_CASE("simple shear: a cemented specimen counts its bonds; its plain consolidated file, cemented, resumes after a kill",
+          "[simple-shear][bond][resume]") {
+  // Bonds installed after consolidated.restart is written, weak enough (0.2 MPa on discs of about
+  // 1.5 mm radius: about 1.4 N) that most break within 2 % strain.
+  io::Config c = small_config();
+  c.set("shear.target_strain", "0.02");
+  c.set("output.fabric_strains", "");
+  c.set("output.snapshot_strains", "0.01");
+  c.set("output.restart_every_steps", "400");
+  c.set("cementation.after", "consolidation");
+  c.set("cementation.tensile_strength", "2e5");
+  c.set("cementation.cohesion", "2e5");
+  const fs::path whole = fresh_dir("cemented"), killed = fresh_dir("cemented_killed");
+  std::ostringstream log;
+  std::size_t bonds = 0;
+  {
+    SimpleShearTest test(simple_shear_config(c), whole, log);
+    test.run();
+    bonds = test.world().bonds().size();
+  }
+  const io::CsvData h = io::read_csv(whole / "history.csv", io::Missing::Allowed);
+  const auto& last = h.rows.back();
+  CHECK(h.rows.front()[h.column("bonds_intact")] == 0.0);  // the consolidated specimen's row: plain
+  const double broken = last[h.column("bonds_broken_tension")] + last[h.column("bonds_broken_shear")];
+  CHECK(last[h.column("bonds_intact")] + broken == static_cast<double>(bonds));
+  CHECK(bonds > 100);
+  CHECK(broken > 0.5 * static_cast<double>(bonds));
+  CHECK(last[h.column("bond_energy_released_J")] > 0.0);
+  {
+    SimpleShearTest plain(simple_shear_config(small_config()), fresh_dir("cemented_plain"), log);
+    plain.load_restart(whole / "consolidated.restart");
+    CHECK(plain.world().bonds().empty());  // the consolidated file is the plain specimen
+  }
+  // The consolidated file sheared with cementation, killed mid-shear after a restart file, then
+  // resumed from it: the run ends as the whole one did, with the bonds installed once.
+  {
+    SimpleShearTest test(simple_shear_config(c), killed, log);
+    const auto stop = static_cast<std::int64_t>(h.rows[h.rows.size() / 2][h.column("step")]) + 7;
+    test.world().add_controller([stop](World& w) {
+      if (w.step_count() == stop) throw std::runtime_error("stopped");
+    });
+    test.load_restart(whole / "consolidated.restart");
+    CHECK_THROWS_WITH(test.run(), Contains("stopped"));
+    CHECK(test.world().bonds().size() == bonds);
+  }
+  REQUIRE(fs::exists(killed / "restart.restart"));
+  {
+    std::ostringstream resumed_log;
+    SimpleShearTest test(simple_shear_config(c), killed, resumed_log);
+    test.load_restart(killed / "restart.restart");
+    REQUIRE(test.stage() == ShearStage::Shearing);
+    REQUIRE(test.world().bonds().size() == bonds);
+    test.run();
+    CHECK(test.world().bonds().size() == bonds);
+    CHECK(resumed_log.str().find("cemented at step") == std::string::npos);
+  }
+  CHECK(file_text(killed / "history.csv") == file_text(whole / "history.csv"));
+  const std::string vtp = file_text(whole / "snapshots/broken_bonds_strain_01.0.vtp");  // the bonds broken by 1 %
+  CHECK_THAT(vtp, Contains("shear_strain_broken") && Contains("energy_released_J") && !Contains("NumberOfPoints=\"0\""));
+  CHECK(file_text(killed / "snapshots/broken_bonds_strain_01.0.vtp") == vtp);
+}
+
 TEST_CASE("simple shear: bad configuration values are refused with the key and what is allowed", "[simple-shear]") {
   io::Config c(simple_shear_schema());
   CHECK_THROWS_WITH(c.set("shear.mode", "undrained-ish"), Contains("shear.mode") && Contains("constant-volume"));
   CHECK_THROWS_WITH(c.set("specimen.porosity", "1.5"), Contains("specimen.porosity") && Contains("1.5"));
   CHECK_THROWS_WITH(c.set("shear.targte_strain", "0.1"), Contains("shear.target_strain"));
   CHECK_THROWS_WITH(preset_values("3D"), Contains("1D, 2D, 4D"));
+  CHECK_THROWS_WITH(c.set("cementation.fraction", "0"), Contains("cementation.fraction") && Contains("0"));
+  CHECK_THROWS_WITH(c.set("cementation.after", "shear"), Contains("cementation.after") && Contains("consolidation"));
   c.set("shear.directions_deg", "0,90");
   CHECK_THROWS_WITH(simple_shear_config(c), Contains("shear.leg_strains"));
   c.set("grading.d_max", "0.0005");

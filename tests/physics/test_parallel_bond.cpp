@@ -183,10 +183,33 @@ TEST_CASE("parallel bond: a broken bond leaves the pair to its contact law", "[p
   World world = bonded_pair(bond_params(kn * speed * dt * 10.5), speed * axis, Vec3::Zero());
   world.step(20);
   REQUIRE(world.bonds().status_of(0) == BondStatus::broken_tension);
-  const double after = world.bonds().normal_force[0];
+  const ParallelBondLaw::State kept = world.bonds().state(0);  // the loads that broke it, kept
   world.step(20);
-  CHECK(after == 0.0);
-  CHECK(world.particles().f[0].norm() == 0.0);  // apart: nothing acts
+  CHECK(world.bonds().normal_force[0] == kept.normal_force);  // a broken bond's loads are not stepped
+  CHECK(world.particles().f[0].norm() == 0.0);                // apart: nothing acts
+}
+
+TEST_CASE("parallel bond: a bond broken in tension releases kn A delta^2 / 2", "[physics][bond]") {
+  // Pulled apart at a constant speed, the bond's force is kn A delta (a linear spring), so the
+  // energy it holds when it breaks at stretch delta is kn A delta^2 / 2; the shear, twisting and
+  // bending parts are zero but for rounding (the motion is along the line of centres).
+  const ParallelBondLaw::Params p = bond_params(kn * speed * dt * 10.5);  // breaks on step 11
+  World world = bonded_pair(p, speed * axis, Vec3::Zero());
+  CHECK(world.bonds().released_energy() == 0.0);
+  const std::int64_t broke = breaking_step(world, 20);
+  REQUIRE(broke == 11);
+  const double delta = speed * dt * static_cast<double>(broke);  // m, stretch at the breaking step
+  const double expected = 0.5 * kn * p.area() * delta * delta;    // J
+  CHECK(relative(world.bonds().released_energy(), expected) < 1e-9);
+  CHECK(relative(ParallelBondLaw::strain_energy(p, world.bonds().state(0)), expected) < 1e-9);
+  world.step(10);  // released once: stepping on adds nothing
+  CHECK(relative(world.bonds().released_energy(), expected) < 1e-9);
+  // and kept through a restart file (format 4 keeps a broken bond's loads)
+  std::stringstream file;
+  io::write_world_state(file, world);
+  World loaded = bonded_pair(bond_params(), Vec3::Zero(), Vec3::Zero());
+  io::read_world_state(file, loaded);
+  CHECK(loaded.bonds().released_energy() == world.bonds().released_energy());
 }
 
 TEST_CASE("parallel bond: the bond's stiffness counts in the critical time step", "[physics][bond]") {

@@ -59,13 +59,14 @@ void World::compute_bond_forces() {
     m.relative_velocity = (v_second + p.w[j].cross(arm_second)) - (p.v[i] + p.w[i].cross(arm_first));
     m.relative_angular_velocity = p.w[j] - p.w[i];
     m.dt = state_.clock.dt;
-    ParallelBondLaw::State s = bonds.state(k);
-    const BondStatus status = ParallelBondLaw::update(bonds.params(k), m, s);
-    bonds.set_state(k, s);
-    if (status != BondStatus::intact) {
+    ParallelBondLaw::State s = bonds.state(k), at_break;
+    const BondStatus status = ParallelBondLaw::update(bonds.params(k), m, s, &at_break);
+    if (status != BondStatus::intact) {  // it keeps the loads that broke it (BondStore::released_energy)
+      bonds.set_state(k, at_break);
       bonds.status[k] = static_cast<std::uint8_t>(status);
       continue;
     }
+    bonds.set_state(k, s);
     const Vec3 force = ParallelBondLaw::force(s, m.normal);  // on piece 2
     const Vec3 torque_first = -arm_first.cross(force) - ParallelBondLaw::moment(s, m.normal);
     p.f[j] += force;

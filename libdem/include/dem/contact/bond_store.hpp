@@ -5,7 +5,8 @@
 // Bonds name their balls by stable particle id (ParticleStore::id), never by storage index, so a
 // re-sort or a rebuild of the neighbour lists leaves them as they are; the engine's bond loop looks
 // the storage index up each step. A broken bond stays in the store with how it broke (status), so
-// that counts and outputs can report it; it carries nothing more.
+// that counts and outputs can report it; it carries nothing more, and keeps in its state the loads
+// it carried on the step it broke (what released_energy() sums; restart files keep them).
 //
 // The engine visits the bonds after the contact laws, in bond order, one at a time, and adds each
 // bond's force and torques into its balls' sums in that order: the sums are the same bits on any
@@ -66,6 +67,15 @@ struct BondStore {
   }
   BondStatus status_of(std::size_t k) const { return static_cast<BondStatus>(status[k]); }
   bool intact(std::size_t k) const { return status[k] == static_cast<std::uint8_t>(BondStatus::intact); }
+
+  /// The strain energy the broken bonds held on the step each broke, J (the energy released by
+  /// breakage; ParallelBondLaw::strain_energy of the loads a broken bond keeps).
+  double released_energy() const {
+    double e = 0.0;
+    for (std::size_t k = 0; k < size(); ++k)
+      if (!intact(k)) e += ParallelBondLaw::strain_energy(params(k), state(k));
+    return e;
+  }
 
   /// How many bonds have status `s`.
   std::size_t count(BondStatus s) const {

@@ -82,8 +82,8 @@ struct ParallelBondLaw {
   };
 
   /// Advances the bond by one step and checks its strength; returns intact or how it broke (then
-  /// the State is zero).
-  static BondStatus update(const Params& p, const Motion& m, State& s) {
+  /// the State is zero and `at_break`, if given, receives the loads that broke it).
+  static BondStatus update(const Params& p, const Motion& m, State& s, State* at_break = nullptr) {
     const Vec3& n = m.normal;
     s.shear_force = rotate_into_plane(s.shear_force, n);
     s.bend_moment = rotate_into_plane(s.bend_moment, n);
@@ -99,8 +99,21 @@ struct ParallelBondLaw {
     BondStatus out = BondStatus::intact;
     if (tensile_stress(p, s) > p.tensile_strength) out = BondStatus::broken_tension;
     else if (shear_stress(p, s) > shear_strength(p, s)) out = BondStatus::broken_shear;
-    if (out != BondStatus::intact) s = State{};
+    if (out != BondStatus::intact) {
+      if (at_break) *at_break = s;
+      s = State{};
+    }
     return out;
+  }
+
+  /// The elastic energy the bond stores with loads `s`, J (PFC's pb strain energy):
+  /// Fn^2 / (2 kn A) + |Fs|^2 / (2 ks A) + Mt^2 / (2 ks J) + |Mb|^2 / (2 kn I).
+  static double strain_energy(const Params& p, const State& s) {
+    const double area = p.area();
+    return s.normal_force * s.normal_force / (2.0 * p.normal_stiffness * area) +
+           s.shear_force.squaredNorm() / (2.0 * p.shear_stiffness * area) +
+           s.twist_moment * s.twist_moment / (2.0 * p.shear_stiffness * p.polar_inertia()) +
+           s.bend_moment.squaredNorm() / (2.0 * p.normal_stiffness * p.bending_inertia());
   }
 
   /// The force on piece 2 (N); piece 1 gets the opposite. Tension pulls piece 2 back to piece 1.

@@ -279,8 +279,13 @@ std::string Calibration::setup_text() const {
       << " slope_stress_fraction " << detail::exact_text(settings_.slope_stress_fraction) << "\n"
       << "modulus_specimen " << (settings_.modulus_specimen == ModulusSpecimen::Generated ? "generated" : "reconsolidated") << "\n";
   std::istringstream ini(shear_config_with(config_, start_).to_ini());
+  // An uncemented specimen's setup leaves [cementation] out, as it was before those keys existed.
+  const bool plain = config_.exact_text("cementation.after") == "none";
+  bool in_cementation = false;
   for (std::string line; std::getline(ini, line);) {
     if (line.empty() || line.front() == '#') continue;
+    if (line.front() == '[') in_cementation = line == "[cementation]";
+    if (plain && in_cementation) continue;
     bool skip = false;
     for (const char* key : {"threads =", "progress_seconds =", "fabric_strains =", "snapshot_strains =", "restart_every_steps ="})
       skip = skip || line.rfind(key, 0) == 0;

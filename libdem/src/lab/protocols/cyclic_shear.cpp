@@ -12,6 +12,7 @@
 
 #include <dem/core/errors.hpp>
 #include <dem/lab/protocols/simple_shear.hpp>
+#include <dem/lab/toolkit/broken_bonds.hpp>
 #include <dem/lab/toolkit/fabric_log.hpp>
 #include <dem/lab/toolkit/snapshots.hpp>
 
@@ -179,6 +180,7 @@ void CyclicShearTest::run() {
   const auto t0 = std::chrono::steady_clock::now();
   World& w = run_.world();
   if (step_ == Step::Start) {
+    specimen_.cement(CementAfter::Consolidation);  // consolidated.restart, written before, is the plain specimen
     begin();
     current_phase_ = CyclicPhase::Static;
     record_row();
@@ -217,8 +219,14 @@ void CyclicShearTest::run() {
       if (config_.da_strain_limit > 0 && last_double_amplitude_ >= config_.da_strain_limit && std::isnan(outcome_.cycles_to_da_strain))
         outcome_.cycles_to_da_strain = n;
       while (next_snapshot_ < config_.snapshot_cycles.size() && n >= config_.snapshot_cycles[next_snapshot_] - 1e-12) {
-        snapshots_->write(w, cycle_label(config_.snapshot_cycles[next_snapshot_++]), w.time(), last_sample_.strain.norm());
+        const std::string label = cycle_label(config_.snapshot_cycles[next_snapshot_++]);
+        snapshots_->write(w, label, w.time(), last_sample_.strain.norm());
         run_.record_outputs(snapshots_->files());
+        if (broken_bonds_) {
+          const std::filesystem::path file = snapshots_->directory() / ("broken_bonds_" + label + ".vtp");
+          broken_bonds_->write_vtp(w, file);
+          run_.record_outputs({file});
+        }
       }
       while (next_fabric_ < config_.fabric_cycles.size() && n >= config_.fabric_cycles[next_fabric_] - 1e-12)
         fabric_->record(w, cycle_label(config_.fabric_cycles[next_fabric_++]), last_sample_.strain.norm());

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include <dem/lab/toolkit/broken_bonds.hpp>
 #include <dem/measure/shear_uniformity.hpp>
 
 #include "../../io/json_file.hpp"
@@ -57,6 +58,7 @@ void CyclicShearTest::add_history_columns() {
   h.add("non_coaxiality_deg", [this] { return row_.non_coaxiality_deg; });
   h.add("kinetic_energy", [&s] { return s.kinetic_energy; });
   h.add("balls_outside", [&s] { return static_cast<double>(s.balls_outside); });
+  if (specimen_.config().cementation.after != CementAfter::None) add_bond_columns(h, run_.world());  // only when cemented
 }
 
 void CyclicShearTest::record_row() {
@@ -90,6 +92,7 @@ void CyclicShearTest::record_row() {
   row_.excess_pore_pressure = excess;
   row_.double_amplitude = current_phase_ == CyclicPhase::Cyclic ? cycles_.double_amplitude_strain() : NAN;
   row_.non_coaxiality_deg = coaxiality;
+  if (broken_bonds_) broken_bonds_->update(w, s.shear_strain);  // the bonds broken in the last row
   history_.record();
   last_sample_ = sample;
   last_double_amplitude_ = row_.double_amplitude;

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include <dem/core/errors.hpp>
+#include <dem/lab/toolkit/broken_bonds.hpp>
 #include <dem/lab/toolkit/fabric_log.hpp>
 #include <dem/lab/toolkit/snapshots.hpp>
 
@@ -15,6 +16,8 @@ void CyclicShearTest::keep_state() {
   add_history_columns();
   fabric_ = std::make_unique<FabricLog>(run_.folder() / "cyclic_fabric.csv");
   snapshots_ = std::make_unique<SnapshotWriter>(run_.folder() / "cyclic_snapshots");
+  if (specimen_.config().cementation.after != CementAfter::None)
+    broken_bonds_ = std::make_unique<BrokenBondLog>(run_, "cyclic_broken_bond_strains");
   std::sort(config_.snapshot_cycles.begin(), config_.snapshot_cycles.end());
   std::sort(config_.fabric_cycles.begin(), config_.fabric_cycles.end());
   // The drive acts from the cyclic test's start on, after the cell's own controller.

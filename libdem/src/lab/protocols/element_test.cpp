@@ -359,9 +359,7 @@ void ElementTest::add_columns() {
     run_.keep("span_from_strain", span_from_strain_);
   }
   if (config_.cementation.after == CementAfter::None) return;  // a plain run's columns stay as they were
-  h.add("bonds_intact", [&w] { return static_cast<double>(w.bonds().count(BondStatus::intact)); });
-  h.add("bonds_broken_tension", [&w] { return static_cast<double>(w.bonds().count(BondStatus::broken_tension)); });
-  h.add("bonds_broken_shear", [&w] { return static_cast<double>(w.bonds().count(BondStatus::broken_shear)); });
+  add_bond_columns(h, w);
 }
 
 void ElementTest::write_summary(const std::string& resolved_config_json) const {

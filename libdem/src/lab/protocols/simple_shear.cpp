@@ -93,6 +93,7 @@ void SimpleShearTest::shear() {
   const auto t0 = std::chrono::steady_clock::now();
   World& w = world();
   if (stage() == ShearStage::Consolidated) {
+    specimen_.cement(CementAfter::Consolidation);  // consolidated.restart, written before, is the plain specimen
     specimen_.set_stage(ShearStage::Shearing);
     steps_at_shear_start_ = w.step_count();
     legs_.start(w, cell(), consolidated_height());

@@ -58,7 +58,7 @@ std::size_t cement(World& world, const ParallelBondMaterial& material, double ga
   const double skin = world.state().rebuild.skin;
   require(gap_ratio * largest <= skin, "cementation.gap_ratio", gap_ratio,
           "at most skin / largest radius = " + io::real_text(skin / largest) +
-              " (bonded gaps are found in the neighbour lists; raise engine.skin for wider ones)");
+              " (bonded gaps are found in the neighbour lists, whose skin is half the smallest radius unless WorldSettings::skin sets it)");
   std::set<std::pair<ParticleId, ParticleId>> bonded;
   const BondStore& bonds = world.bonds();
   for (std::size_t k = 0; k < bonds.size(); ++k)
@@ -84,6 +84,13 @@ std::size_t cement(World& world, const ParallelBondMaterial& material, double ga
     ++made;
   }
   return made;
+}
+
+void add_bond_columns(HistoryLog& h, const World& w) {
+  h.add("bonds_intact", [&w] { return static_cast<double>(w.bonds().count(BondStatus::intact)); });
+  h.add("bonds_broken_tension", [&w] { return static_cast<double>(w.bonds().count(BondStatus::broken_tension)); });
+  h.add("bonds_broken_shear", [&w] { return static_cast<double>(w.bonds().count(BondStatus::broken_shear)); });
+  h.add("bond_energy_released_J", [&w] { return w.bonds().released_energy(); });
 }
 
 }  // namespace dem::lab

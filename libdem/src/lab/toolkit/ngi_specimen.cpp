@@ -148,6 +148,7 @@ void NgiSpecimen::generate() {
   generated_state_ = state();
   release_rings(world_, cell_);
   set_contact_models(config_.ball_ball.friction(), config_.ball_ball.rolling_friction(), false);
+  cement(CementAfter::Generation);
   stage_ = ShearStage::Generated;
   run_.add_wall_seconds(seconds_since(t0));
   log << "generation done in " << seconds_since(t0) << " s, " << world_.step_count() << " steps: porosity "
@@ -236,6 +237,17 @@ void NgiSpecimen::friction_schedule() {
         << config_.specimen.porosity << " + " << g_config.porosity_tolerance << ": spheres of this grading settle no denser "
         << "at generation.stress = " << g_config.stress << " Pa within generation.steps_per_stage = "
         << g_config.steps_per_stage << " steps per schedule step; consolidation densifies the specimen further\n";
+}
+
+std::size_t NgiSpecimen::cement(CementAfter moment) {
+  const CementationConfig& c = config_.cementation;
+  if (c.after != moment) return 0;
+  const std::size_t made = lab::cement(world_, bond_material(c, config_.specimen.seed), c.gap_ratio, c.fraction);
+  world_.update_time_step();  // the bonds' stiffness counts in an automatic one
+  const auto balls = static_cast<double>(std::max<std::size_t>(1, ball_count_));
+  run_.log() << "cemented at step " << world_.step_count() << ": " << made << " bonds (" << 2.0 * static_cast<double>(made) / balls
+             << " per ball), time step " << world_.time_step() << " s\n";
+  return made;
 }
 
 void NgiSpecimen::consolidate() {

@@ -4,6 +4,8 @@
 #include <optional>
 
 #include <dem/core/pair_geometry.hpp>
+#include <dem/lab/toolkit/broken_bonds.hpp>
+#include <dem/lab/toolkit/cementation.hpp>
 #include <dem/lab/toolkit/fabric_log.hpp>
 #include <dem/lab/toolkit/snapshots.hpp>
 #include <dem/measure/fabric.hpp>
@@ -54,6 +56,7 @@ ShearOutputs::ShearOutputs(Run& run, const NgiSpecimen& specimen, std::function<
     run.keep(name + "_z", x->z());
   }
   run.keep_points("profile_reference", interval.positions);  // by ball id, NaN for pebbles
+  if (specimen_.config().cementation.after != CementAfter::None) broken_bonds_ = std::make_unique<BrokenBondLog>(run, "broken_bond_strains");
   // Rows written up to the restart point are kept; later ones belong to the run that stopped.
   run.keep("history_rows", [this] { return static_cast<double>(history_.rows()); }, [this](double rows) {
     history_.resume(run_.loaded_folder() / "history.csv", static_cast<std::size_t>(rows));
@@ -76,6 +79,7 @@ void ShearOutputs::record(double strain, bool force) {
   const auto snapshot_due = [&] {
     return next_snapshot_ < out.snapshot_strains.size() && strain >= out.snapshot_strains[next_snapshot_] - 1e-12;
   };
+  if (broken_bonds_) broken_bonds_->update(world, strain);  // the bonds broken in the last chunk
   const bool row = force || strain >= next_row_strain_ - 1e-12;
   if (row || fabric_due() || snapshot_due()) world.gather_state();  // after a step that left only the walls whole
   if (row) {
@@ -85,8 +89,14 @@ void ShearOutputs::record(double strain, bool force) {
   }
   for (; fabric_due(); ++next_fabric_) fabric_->record(world, label_for(out.fabric_strains[next_fabric_]), strain);
   for (; snapshot_due(); ++next_snapshot_) {
-    snapshots_->write(world, label_for(out.snapshot_strains[next_snapshot_]), world.time(), strain);
+    const std::string label = label_for(out.snapshot_strains[next_snapshot_]);
+    snapshots_->write(world, label, world.time(), strain);
     run_.record_outputs(snapshots_->files());
+    if (broken_bonds_) {
+      const std::filesystem::path file = snapshots_->directory() / ("broken_bonds_" + label + ".vtp");
+      broken_bonds_->write_vtp(world, file);
+      run_.record_outputs({file});
+    }
   }
 }
 
@@ -163,6 +173,7 @@ void ShearOutputs::add_columns() {
   uniformity_ = std::make_unique<UniformityProbe>(world, specimen_.cell(), config.measure.profile_bins);
   uniformity_->add_columns(history_, direction);
   add_ring_columns(history_, world, specimen_.cell());
+  if (config.cementation.after != CementAfter::None) add_bond_columns(history_, world);  // a plain run's columns stay as they were
 }
 
 }  // namespace dem::lab

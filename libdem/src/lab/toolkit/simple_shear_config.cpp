@@ -280,6 +280,7 @@ void for_each_section(Config& c, Visit&& visit, Contact&& contact) {
   visit("shear", shear_keys(), c.shear);
   visit("measure", measure_keys(), c.measure);
   visit("output", output_keys(), c.output);
+  visit("cementation", cementation_keys(), c.cementation);  // the element test's keys (lab/toolkit/cementation.hpp)
 }
 
 // The rule of a section's keys that have none of their own (docs/restart.md).
@@ -289,6 +290,7 @@ std::optional<io::FixedAfter> section_rule(const std::string& section) {
   if (section == "shear") return fixed_after(P::Shearing, "the shear so far ran with it");
   if (section == "measure") return fixed_after(P::Consolidated, "history.csv so far was measured with it");
   if (section == "output") return io::FixedAfter::never();
+  if (section == "cementation") return fixed_after(P::Shearing, "the bonds were installed with it");
   return std::nullopt;  // rings and engine: a rule per key
 }
 

@@ -221,9 +221,11 @@ void SnapshotWriter::resume(std::size_t snapshots) {
     throw InputError("snapshot index " + index_file.string() + " lists " + std::to_string(rows.size()) +
                      " snapshots: cannot resume after " + std::to_string(snapshots));
 
-  for (std::size_t k = snapshots; k < rows.size(); ++k)
+  for (std::size_t k = snapshots; k < rows.size(); ++k) {
     for (const char* kind : kinds)
       for (const char* extension : {".vtp", ".csv"}) fs::remove(file_of(dir_, kind, rows[k].label, extension));
+    fs::remove(file_of(dir_, "broken_bonds", rows[k].label, ".vtp"));  // a cemented run's (lab/toolkit/broken_bonds.hpp)
+  }
   rows.resize(snapshots);
 
   last_position_.clear();

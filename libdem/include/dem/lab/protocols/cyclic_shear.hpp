@@ -49,6 +49,7 @@
 
 namespace dem::lab {
 
+class BrokenBondLog;
 class FabricLog;
 class SnapshotWriter;
 
@@ -145,6 +146,7 @@ class CyclicShearTest {
   CyclicOutcome outcome_;
   std::unique_ptr<FabricLog> fabric_;
   std::unique_ptr<SnapshotWriter> snapshots_;
+  std::unique_ptr<BrokenBondLog> broken_bonds_;  // a cemented run's: cyclic_snapshots/broken_bonds_<label>.vtp
   // The cursor.
   Step step_ = Step::Start;
   std::int64_t rows_done_ = 0;  // of the current stage (steps left, in the post-cyclic stage)

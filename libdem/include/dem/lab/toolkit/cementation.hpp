@@ -9,6 +9,7 @@
 #include <dem/contact/bond_material.hpp>
 #include <dem/core/world.hpp>
 #include <dem/io/config_binding.hpp>
+#include <dem/lab/toolkit/history_log.hpp>
 
 namespace dem::lab {
 
@@ -45,5 +46,10 @@ ParallelBondMaterial bond_material(const CementationConfig& c, std::uint64_t see
 /// lists are remade first, so gap_ratio x the largest mean radius must be within the World's skin
 /// (InputError naming cementation.gap_ratio otherwise). Pairs already bonded are left as they are.
 std::size_t cement(World& world, const ParallelBondMaterial& material, double gap_ratio, double fraction = 1.0);
+
+/// The history columns of a cemented run (added only when cementation is on, so that a plain run's
+/// files stay as they were): bonds_intact, bonds_broken_tension, bonds_broken_shear and
+/// bond_energy_released_J (the strain energy the broken bonds held when they broke, summed).
+void add_bond_columns(HistoryLog& history, const World& world);
 
 }  // namespace dem::lab

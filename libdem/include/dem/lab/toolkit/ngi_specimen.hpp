@@ -84,6 +84,12 @@ class NgiSpecimen {
   /// (another E*): the same packing, a new time step for the new stiffness, the servo back on the
   /// vertical stress until it has settled.
   void reconsolidate();
+  /// Installs the bonds of cementation.* (docs/cementation.md) if cementation.after is `moment`:
+  /// generate() calls it at the generation's end; a protocol calls it with Consolidation when its
+  /// loading starts, after consolidated.restart is written (so that file is the plain specimen),
+  /// once: a run resumed past that point has its bonds in the file. The strengths are keyed by
+  /// specimen.seed; an automatic time step is estimated again with the bonds. Returns the bonds made.
+  std::size_t cement(CementAfter moment);
   /// Loads a restart file into the run (Run::load) and puts the specimen where the file left it,
   /// after the checks of docs/restart.md: the recorded configuration against the run's (when
   /// both have one), the grading, the specimen and engine keys (InputError naming the file).

@@ -1,7 +1,7 @@
 // The outputs of a simple shear in the NGI cell, as a part: history.csv (a row every
 // output.every_strain of shear strain: the plates, the rings, the measurement sphere, the
 // uniformity of the shear, docs/model.md 8 and 8.1), fabric.csv (roses at output.fabric_strains)
-// and snapshots/ (ParaView, at output.snapshot_strains). It keeps its counters and the profile's
+// and snapshots/ (ParaView, at output.snapshot_strains; with cementation, the broken bonds too). It keeps its counters and the profile's
 // reference positions in the run's restart files, and continues the files of a loaded run.
 #pragma once
 
@@ -17,6 +17,7 @@
 
 namespace dem::lab {
 
+class BrokenBondLog;
 class FabricLog;
 class SnapshotWriter;
 
@@ -50,6 +51,7 @@ class ShearOutputs {
   std::unique_ptr<UniformityProbe> uniformity_;
   std::unique_ptr<FabricLog> fabric_;
   std::unique_ptr<SnapshotWriter> snapshots_;
+  std::unique_ptr<BrokenBondLog> broken_bonds_;  // a cemented run's: snapshots/broken_bonds_<label>.vtp
   double next_row_strain_ = 0.0;
   std::size_t next_fabric_ = 0, next_snapshot_ = 0;
   double shear_strain_ = 0.0;  // of the row being written, for the escape message

@@ -21,6 +21,7 @@
 
 #include <dem/io/config.hpp>
 #include <dem/io/config_binding.hpp>
+#include <dem/lab/toolkit/cementation.hpp>
 #include <dem/lab/toolkit/contact_config.hpp>
 #include <dem/lab/toolkit/grading.hpp>
 #include <dem/lab/toolkit/shear_cell.hpp>
@@ -153,6 +154,7 @@ struct SimpleShearConfig {
   ShearConfig shear;
   MeasureConfig measure;
   OutputConfig output;
+  CementationConfig cementation;  // bonds between close balls (docs/cementation.md); none by default
 
   /// Ball-ball friction and rolling friction while the radii grow (generation.friction, or the
   /// ball-ball contact's).
