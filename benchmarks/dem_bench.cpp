@@ -188,8 +188,8 @@ int main(int argc, char** argv) {
         const HertzMindlinParams h = bench_hertz_params(balls, friction, mu_r, damping, rolling);
         std::printf("law: hertz-mindlin\ndamping_model: %s\nrolling: %s\nyoungs_modulus_Pa: %.17g\npoissons_ratio: %.17g\n"
                     "restitution: %.17g\neffective_modulus_Pa: %.17g\neffective_shear_modulus_Pa: %.17g\n",
-                    to_string(h.damping_model), to_string(h.rolling), h.youngs_modulus, h.poissons_ratio, h.restitution, h.effective_modulus,
-                    h.effective_shear_modulus);
+                    to_string(h.damping_model), to_string(h.rolling), h.youngs_modulus, h.poissons_ratio, h.restitution,
+                    h.effective_modulus, h.effective_shear_modulus);
       }
       return 0;
     }
@@ -206,8 +206,9 @@ int main(int argc, char** argv) {
     // The input copy (96 B per ball) is the benchmark's, not the library's: drop it before the
     // peak RSS is reached (the first neighbour-list build).
     const std::size_t ball_count = balls.size();
-    const auto model = law == "rrlinear" ? bench_law(gamma_n, friction, mu_r)
-                                         : bench_hertz_law(balls, friction, mu_r, damping, rolling);  // needs the packing
+    const auto model = law == "rrlinear"
+                           ? bench_law(gamma_n, friction, mu_r)
+                           : bench_hertz_law(balls, friction, mu_r, damping, rolling);  // needs the packing
     std::vector<BallSpec>().swap(balls);
     const std::string boundary = vm["boundary"].as<std::string>();
     if (boundary != "cylinder" && boundary != "analytic" && boundary != "rings" && boundary != "none")
