@@ -43,7 +43,8 @@ std::shared_ptr<const ContactModel> bench_law(double gamma_n, double mu, double 
   return make_contact_model<RollingLinearLaw>(law, "contact");
 }
 
-HertzMindlinParams bench_hertz_params(const std::vector<BallSpec>& balls, double mu, double mu_r, HertzDamping damping) {
+HertzMindlinParams bench_hertz_params(const std::vector<BallSpec>& balls, double mu, double mu_r, HertzDamping damping,
+                                      HertzRolling rolling) {
   // The touching pairs by a sweep along x: each ball against those after it within two radii.
   std::vector<const BallSpec*> by_x;
   double r_max = 0.0;
@@ -65,12 +66,15 @@ HertzMindlinParams bench_hertz_params(const std::vector<BallSpec>& balls, double
   const double nu = 0.25;
   const double effective_modulus = 3.0 * normal_stiffness / (4.0 * std::sqrt(r_eff * overlap));  // 4/3 E* a = kn
   const double restitution = std::exp(-pi * 0.2 / std::sqrt(1.0 - 0.2 * 0.2));
-  return HertzMindlinParams::material(effective_modulus * 2.0 * (1.0 - nu * nu), nu, restitution, mu, mu_r, damping);
+  HertzMindlinParams p =
+      HertzMindlinParams::material(effective_modulus * 2.0 * (1.0 - nu * nu), nu, restitution, mu, mu_r, damping);
+  p.rolling = rolling;
+  return p;
 }
 
 std::shared_ptr<const ContactModel> bench_hertz_law(const std::vector<BallSpec>& balls, double mu, double mu_r,
-                                                    HertzDamping damping) {
-  return make_contact_model<HertzMindlinLaw>(bench_hertz_params(balls, mu, mu_r, damping), "contact");
+                                                    HertzDamping damping, HertzRolling rolling) {
+  return make_contact_model<HertzMindlinLaw>(bench_hertz_params(balls, mu, mu_r, damping, rolling), "contact");
 }
 
 WallId add_cylinder_walls(World& world, double top_z, double side_top, int segments) {

@@ -39,9 +39,11 @@ std::shared_ptr<const ContactModel> bench_law(double gamma_n, double mu, double 
 /// ratio 0.2 (0.527), the same friction and rolling friction. `balls`: the packing. `damping`:
 /// LIGGGHTS's dashpot (the default) or LAMMPS's Tsuji dashpot, the peer compare-peers runs it against.
 HertzMindlinParams bench_hertz_params(const std::vector<BallSpec>& balls, double mu, double mu_r,
-                                      HertzDamping damping = HertzDamping::liggghts);
+                                      HertzDamping damping = HertzDamping::liggghts,
+                                      HertzRolling rolling = HertzRolling::epsd);
 std::shared_ptr<const ContactModel> bench_hertz_law(const std::vector<BallSpec>& balls, double mu, double mu_r,
-                                                    HertzDamping damping = HertzDamping::liggghts);
+                                                    HertzDamping damping = HertzDamping::liggghts,
+                                                    HertzRolling rolling = HertzRolling::epsd);
 
 /// Side wall (a circumscribed polygon of `segments` facets, from z = -1 mm to side_top), bottom
 /// plane z = 0 and a top plane at top_z; returns the top wall's id.

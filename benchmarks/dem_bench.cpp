@@ -119,6 +119,9 @@ int main(int argc, char** argv) {
       "rolling-friction", po::value<double>()->default_value(rolling_friction),
       "rolling friction mu_r of either law (0: no rolling resistance; LAMMPS's rolling sds has no Hertz-scaled "
       "spring, so compare-peers runs the tsuji comparison without it)")(
+      "rolling", po::value<std::string>()->default_value("epsd"),
+      "hertz-mindlin's rolling resistance: epsd (LIGGGHTS's epsd2 spring) or cdt (its constant directional torque), "
+      "the model compare-peers --law hertz gives LIGGGHTS")(
       "digest", "print a hash of the final state (state_digest), the same bit for bit for any rank and thread count")(
       "isa", po::value<std::string>()->default_value("best"),
       "instruction set of the contact blocks and the leapfrog: best (the processor's), avx512, avx2 or scalar; "
@@ -165,6 +168,12 @@ int main(int argc, char** argv) {
     if (damping_name != "liggghts" && law != "hertz-mindlin")
       throw InputError("--damping-model = " + damping_name + ": only with --law hertz-mindlin (--law is " + law + ")");
     const HertzDamping damping = damping_name == "tsuji" ? HertzDamping::tsuji : HertzDamping::liggghts;
+    const std::string rolling_name = vm["rolling"].as<std::string>();
+    if (rolling_name != "epsd" && rolling_name != "cdt")
+      throw InputError("--rolling = " + rolling_name + ": must be epsd or cdt");
+    if (rolling_name != "epsd" && law != "hertz-mindlin")
+      throw InputError("--rolling = " + rolling_name + ": only with --law hertz-mindlin (--law is " + law + ")");
+    const HertzRolling rolling = rolling_name == "cdt" ? HertzRolling::cdt : HertzRolling::epsd;
     const double mu_r = vm["rolling-friction"].as<double>();
     if (!(mu_r >= 0.0)) throw InputError("--rolling-friction = " + std::to_string(mu_r) + ": must be >= 0");
     if (vm.count("describe")) {
@@ -176,11 +185,11 @@ int main(int argc, char** argv) {
                   friction, mu_r, density, input.header_value("recipe"), packing_recipe);
       if (law == "hertz-mindlin") {
         // The material the peers' Hertz laws take (compare-peers --law hertz), and what it derives to.
-        const HertzMindlinParams h = bench_hertz_params(balls, friction, mu_r, damping);
-        std::printf("law: hertz-mindlin\ndamping_model: %s\nyoungs_modulus_Pa: %.17g\npoissons_ratio: %.17g\n"
+        const HertzMindlinParams h = bench_hertz_params(balls, friction, mu_r, damping, rolling);
+        std::printf("law: hertz-mindlin\ndamping_model: %s\nrolling: %s\nyoungs_modulus_Pa: %.17g\npoissons_ratio: %.17g\n"
                     "restitution: %.17g\neffective_modulus_Pa: %.17g\neffective_shear_modulus_Pa: %.17g\n",
-                    to_string(h.damping_model), h.youngs_modulus, h.poissons_ratio, h.restitution, h.effective_modulus,
-                    h.effective_shear_modulus);
+                    to_string(h.damping_model), to_string(h.rolling), h.youngs_modulus, h.poissons_ratio, h.restitution,
+                    h.effective_modulus, h.effective_shear_modulus);
       }
       return 0;
     }
@@ -197,8 +206,9 @@ int main(int argc, char** argv) {
     // The input copy (96 B per ball) is the benchmark's, not the library's: drop it before the
     // peak RSS is reached (the first neighbour-list build).
     const std::size_t ball_count = balls.size();
-    const auto model = law == "rrlinear" ? bench_law(gamma_n, friction, mu_r)
-                                         : bench_hertz_law(balls, friction, mu_r, damping);  // needs the packing
+    const auto model = law == "rrlinear"
+                           ? bench_law(gamma_n, friction, mu_r)
+                           : bench_hertz_law(balls, friction, mu_r, damping, rolling);  // needs the packing
     std::vector<BallSpec>().swap(balls);
     const std::string boundary = vm["boundary"].as<std::string>();
     if (boundary != "cylinder" && boundary != "analytic" && boundary != "rings" && boundary != "none")

@@ -128,6 +128,8 @@ TEST_CASE("resume rules: what is done is fixed, what is to come and the outputs 
       {"engine.threads", RunProgress::Shearing, false, true},
       {"engine.max_overlap_ratio", RunProgress::Shearing, false, true},
       {"ball_ball.law", RunProgress::Generating, false, false},
+      {"ball_ball.rolling", RunProgress::Generated, false, false},  // the law's model: as its other parameters
+      {"ball_facet.rolling", RunProgress::Consolidated, true, true},
       {"cyclic.csr", RunProgress::Consolidated, false, true},  // a consolidated specimen, cycled in another way
       {"cyclic.csr", RunProgress::Shearing, false, false},     // a cyclic stage under way
       {"cyclic.max_cycles", RunProgress::Shearing, false, true},
@@ -156,6 +158,14 @@ TEST_CASE("resume rules: what is done is fixed, what is to come and the outputs 
   CHECK(check_resume(schema, {{"shear.mode", "drained"}}, {{"shear.damping_frame", "fixed"}}, RunProgress::Shearing, false, "f").empty());
   CHECK(check_resume(schema, {{"shear.mode", "drained"}}, {{"shear.damping_frame", "plates"}}, RunProgress::Consolidated, false, "f")
             .size() == 1);
+  // A file written before the rolling key existed ran epsd: cdt is refused, epsd passes.
+  CHECK_THROWS_WITH(check_resume(schema, {{"ball_ball.law", "hertz-mindlin"}},
+                                 {{"ball_ball.law", "hertz-mindlin"}, {"ball_ball.rolling", "cdt"}}, RunProgress::Shearing,
+                                 false, "f"),
+                    Contains("ball_ball.rolling = cdt here, epsd in the file"));
+  CHECK(check_resume(schema, {{"ball_ball.law", "hertz-mindlin"}}, {{"ball_ball.law", "hertz-mindlin"}, {"ball_ball.rolling", "epsd"}},
+                     RunProgress::Shearing, false, "f")
+            .empty());
   // Unchanged keys and keys of another schema version pass without a word.
   CHECK(check_resume(schema, {{"shear.mode", "drained"}, {"old.key", "1"}}, {{"shear.mode", "drained"}, {"new.key", "2"}},
                      RunProgress::Done, false, "f")

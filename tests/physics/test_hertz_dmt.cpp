@@ -113,19 +113,23 @@ TEST_CASE("hertz-dmt: the tension as the overlap vanishes is DMT's pull-off forc
 
 TEST_CASE("hertz-dmt: without surface energy it is Hertz-Mindlin, bit for bit", "[contact][physics][adhesion]") {
   for (HertzDamping model : {HertzDamping::liggghts, HertzDamping::tsuji}) {
-    const HertzDmtParams p = dmt(0.0, model);
-    HertzDmtLaw::State dmt_state{};
-    HertzMindlinLaw::State hm_state{};
-    for (int step = 0; step < 50; ++step) {  // loading, sliding and rolling, the history carried over
-      ContactKinematics k = head_on(1e-6 * (1 + step % 7), radius / 2, -0.01);
-      k.relative_velocity += Vec3(0, 0.05 * std::sin(step), 0.02);
-      k.relative_angular_velocity = Vec3(1.0, -2.0 * std::cos(step), 3.0);
-      k.normal = Vec3(1.0, 0.01 * step, 0.0).normalized();
-      const ContactForce a = HertzDmtLaw::force(p, k, dmt_state);
-      const ContactForce b = HertzMindlinLaw::force(p.hertz, k, hm_state);
-      CHECK(a.force == b.force);
-      CHECK(a.moment == b.moment);
-      CHECK(a.normal_force == b.normal_force);
+    for (HertzRolling rolling : {HertzRolling::epsd, HertzRolling::cdt}) {
+      INFO(to_string(model) << ", rolling " << to_string(rolling));
+      HertzDmtParams p = dmt(0.0, model);
+      p.hertz.rolling = rolling;
+      HertzDmtLaw::State dmt_state{};
+      HertzMindlinLaw::State hm_state{};
+      for (int step = 0; step < 50; ++step) {  // loading, sliding and rolling, the history carried over
+        ContactKinematics k = head_on(1e-6 * (1 + step % 7), radius / 2, -0.01);
+        k.relative_velocity += Vec3(0, 0.05 * std::sin(step), 0.02);
+        k.relative_angular_velocity = Vec3(1.0, -2.0 * std::cos(step), 3.0);
+        k.normal = Vec3(1.0, 0.01 * step, 0.0).normalized();
+        const ContactForce a = HertzDmtLaw::force(p, k, dmt_state);
+        const ContactForce b = HertzMindlinLaw::force(p.hertz, k, hm_state);
+        CHECK(a.force == b.force);
+        CHECK(a.moment == b.moment);
+        CHECK(a.normal_force == b.normal_force);
+      }
     }
   }
 }

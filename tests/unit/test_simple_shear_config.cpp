@@ -144,30 +144,53 @@ TEST_CASE("simple-shear keys: each contact type names its law by keyword and rea
   }
 }
 
-TEST_CASE("simple-shear keys: hertz-mindlin reads its material and its damping model by name", "[lab][config][law]") {
+TEST_CASE("simple-shear keys: hertz-mindlin reads its material, its damping and rolling models by name",
+          "[lab][config][law]") {
   io::Config c(simple_shear_schema());
+  CHECK(c.text("ball_ball.rolling") == "epsd");  // the model before the key existed
   c.set("ball_ball.law", "hertz-mindlin");
   c.set("ball_ball.youngs_modulus", "7e10");
   c.set("ball_ball.poissons_ratio", "0.3");
   c.set("ball_ball.restitution", "0.6");
   c.set("ball_ball.damping_model", "tsuji");
+  c.set("ball_ball.rolling", "cdt");
   const SimpleShearConfig s = simple_shear_config(c);
   CHECK(s.ball_ball.law == "hertz-mindlin");
   CHECK(s.ball_ball.parameters.at("damping_model") == 1.0);
+  CHECK(s.ball_ball.parameters.at("rolling") == 1.0);
   CHECK(s.ball_ball.stiffness() == 7e10);  // the stiffness role: Young's modulus
   CHECK(s.ball_ball.model("ball_ball")->law_name() == std::string("hertz-mindlin"));
   // written back by name, and read to the same struct
-  bool written_by_name = false;
+  int written_by_name = 0;
   io::Config again(simple_shear_schema());
   for (const auto& [key, value] : simple_shear_values(s)) {
     again.set(key, value);
-    if (key == "ball_ball.damping_model") written_by_name = value == "tsuji";
+    if (key == "ball_ball.damping_model" && value == "tsuji") ++written_by_name;
+    if (key == "ball_ball.rolling" && value == "cdt") ++written_by_name;
   }
-  CHECK(written_by_name);
+  CHECK(written_by_name == 2);
   CHECK(simple_shear_config(again) == s);
   // a model that is not one of them, or a restitution out of range, named
   CHECK_THROWS_WITH(c.set("ball_ball.damping_model", "hooke"),
                     Contains("ball_ball.damping_model") && Contains("hooke") && Contains("liggghts") && Contains("tsuji"));
+  CHECK_THROWS_WITH(c.set("ball_ball.rolling", "bogus"), Contains("ball_ball.rolling") && Contains("bogus") &&
+                                                             Contains("'epsd' 'cdt' 'none'"));
+  // the laws' own tables refuse it too (the Python module's path), and `none` leaves no rolling resistance
+  const LawEntry& hertz = contact_law("hertz-mindlin");
+  const LawParameter* rolling = nullptr;
+  for (const LawParameter& p : hertz.parameters)
+    if (p.name == "rolling") rolling = &p;
+  REQUIRE(rolling != nullptr);
+  CHECK_THROWS_WITH(rolling->choice_index("bogus", "ball_facet.rolling"),
+                    Contains("ball_facet.rolling = bogus") && Contains("epsd, cdt, none"));
+  CHECK(rolling->choice_index("none", "ball_facet.rolling") == 2.0);
+  ContactKinematics k{};
+  k.effective_radius = 1e-3;
+  c.set("ball_ball.rolling_friction", "0.3");
+  c.set("ball_ball.rolling", "epsd");
+  CHECK(simple_shear_config(c).ball_ball.model("ball_ball")->stiffness(k).rolling > 0.0);
+  c.set("ball_ball.rolling", "none");
+  CHECK(simple_shear_config(c).ball_ball.model("ball_ball")->stiffness(k).rolling == 0.0);
   CHECK_THROWS_WITH(c.set("ball_ball.restitution", "1.5"), Contains("ball_ball.restitution") && Contains("1.5"));
 }
 
@@ -189,6 +212,9 @@ TEST_CASE("simple-shear keys: a key of a law that is not chosen is refused by na
   h.set("ball_facet.law", "hertz-dmt");
   h.set("ball_facet.surface_energy", "0.05");
   CHECK(simple_shear_config(h).ball_facet.parameters.at("surface_energy") == 0.05);
+  h.set("ball_ball.rolling", "cdt");  // ball_ball.law stays rrlinear, whose spring is its own
+  CHECK_THROWS_WITH(simple_shear_config(h), Contains("ball_ball.rolling = cdt") && Contains("hertz-mindlin, hertz-dmt") &&
+                                                Contains("ball_ball.law = rrlinear"));
 }
 
 TEST_CASE("simple-shear keys: the checks across keys apply to a struct built in C++", "[lab][config]") {

@@ -98,6 +98,11 @@ std::vector<LawParameter> hertz_mindlin_parameters() {
       {"rolling_friction", "-", "rolling resistance coefficient mu_r", 0.0, 0.0, max_friction},
       {"damping_model", "-", "dashpots from e as LIGGGHTS's hertz model (liggghts) or LAMMPS's damping tsuji (tsuji)",
        0.0, {}, {}, false, {"liggghts", "tsuji"}},
+      {"rolling", "-",
+       "rolling resistance model: epsd (spring k_t R*^2 capped at mu_r R* |F_n|, LIGGGHTS's epsd2), cdt (constant "
+       "torque mu_r R* F_ne against the relative spin, LIGGGHTS's cdt) or none (no rolling resistance, whatever "
+       "rolling_friction says)",
+       0.0, {}, {}, false, {"epsd", "cdt", "none"}},
   };
 }
 
@@ -111,6 +116,10 @@ HertzMindlinParams hertz_mindlin_params(const LawValues& v, const std::string& w
   p.friction = v.at("friction");
   p.rolling_friction = v.at("rolling_friction");
   p.damping_model = model == 1.0 ? HertzDamping::tsuji : HertzDamping::liggghts;
+  const double rolling = v.at("rolling");  // 0 epsd, 1 cdt, 2 none
+  require(rolling == 0.0 || rolling == 1.0 || rolling == 2.0, where + ".rolling", rolling, "epsd (0), cdt (1) or none (2)");
+  p.rolling = rolling == 1.0 ? HertzRolling::cdt : HertzRolling::epsd;
+  if (rolling == 2.0) p.rolling_friction = 0.0;
   p.derive();  // a restitution out of range gives NaN constants here, refused by name in validate()
   return p;
 }

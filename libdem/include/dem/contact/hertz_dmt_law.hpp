@@ -18,7 +18,10 @@
 // contact radius, and Coulomb's limit (and the rolling cap) take the load pressing the surfaces
 // together, adhesion included, as LAMMPS's dmt does (its Fncrit = |F_ne + 2 F_po|):
 //
-//   F_n = F_ne - c_n v_n,   |F_t| <= mu |F_n + 2 F_po|,   |M_r| <= mu_r R* |F_n + 2 F_po|.
+//   F_n = F_ne - c_n v_n,   |F_t| <= mu |F_n + 2 F_po|,   |M_r| <= mu_r R* |F_n + 2 F_po|
+//
+// (the rolling model epsd's cap; cdt's constant torque is mu_r R* |F_ne + 2 F_po|, the elastic
+// load as Hertz-Mindlin's cdt takes F_ne).
 //
 // The reported normal force (ContactForce::normal_force) is F_ne, negative while the contact is
 // in tension (stress and fabric see the attraction).
@@ -107,12 +110,22 @@ struct HertzDmtLaw {
       state.shear_displacement = xi;
     }
 
-    // Rolling resistance: k_r = k_t R*^2 on the bend rate, capped at mu_r R* |F_n + 2 F_po|.
+    // Rolling resistance as Hertz-Mindlin's, on the load pressing the surfaces together: epsd's
+    // spring capped at mu_r R* |F_n + 2 F_po|, or cdt's torque mu_r R* |F_ne + 2 F_po| (elastic, as
+    // Hertz-Mindlin's cdt; the same bits as Hertz-Mindlin's without surface energy).
     const Lane3 bend_rate = k.relative_angular_velocity - dot(k.relative_angular_velocity, n) * n;
-    Lane3 moment = detail::rotate_into_plane(state.rolling_moment, n);
-    moment = moment - (shear_stiffness * k.effective_radius * k.effective_radius * k.dt) * bend_rate;
-    moment = detail::cap_length(moment, p.rolling_friction * k.effective_radius * pressing);
-    state.rolling_moment = moment;
+    Lane3 moment;
+    if (p.rolling == HertzRolling::cdt) {
+      moment = detail::constant_directional_torque(p.rolling_friction, k.effective_radius,
+                                                   std::abs(elastic_normal + 2.0 * pull_off),
+                                                   k.relative_angular_velocity, bend_rate);
+      state.rolling_moment = Lane3{};
+    } else {
+      moment = detail::rotate_into_plane(state.rolling_moment, n);
+      moment = moment - (shear_stiffness * k.effective_radius * k.effective_radius * k.dt) * bend_rate;
+      moment = detail::cap_length(moment, p.rolling_friction * k.effective_radius * pressing);
+      state.rolling_moment = moment;
+    }
 
     LaneForce out;
     out.force = normal_total * n + shear_force;

@@ -33,9 +33,18 @@
 // the set restitution exactly for a head-on impact; Tsuji's polynomial is a fit (within 0.6 %
 // over 0.1 <= e <= 0.9, docs/model.md 1.4).
 //
-// Rolling resistance (rolling_friction mu_r > 0): the elastic-plastic spring of PFC's rrlinear and
-// LIGGGHTS's epsd2, k_r = k_t R*^2 (current k_t), on the bend part of the relative rotation,
-// capped at mu_r R* |F_n| (epsd2's cap), the moment rotated into the contact plane as RollingLinearLaw's.
+// Rolling resistance (rolling_friction mu_r > 0), one of two models (`rolling`):
+//   epsd  the elastic-plastic spring of PFC's rrlinear and LIGGGHTS's epsd2, k_r = k_t R*^2
+//         (current k_t), on the bend part of the relative rotation, capped at mu_r R* |F_n|
+//         (epsd2's cap), the moment rotated into the contact plane as RollingLinearLaw's;
+//   cdt   LIGGGHTS's constant directional torque (rolling_model_cdt.h, after Zhou et al. 1999):
+//         M_r = -mu_r R* F_ne w_b / |w| on piece 2, w = w2 - w1 and w_b its bend part (LIGGGHTS
+//         takes w's direction and then drops the normal part), F_ne the elastic normal force
+//         (LIGGGHTS's kn deltan); zero while w is. No spring and no history: at rest it flips
+//         with w from step to step, as LIGGGHTS's does, and it adds no stiffness to the time-step
+//         estimate.
+// A ball rolling on a plane slows at (5/7) mu_r g under either (a solid sphere: M_r / (R m 7/5)).
+// No rolling resistance: rolling_friction = 0 (the registry's `rolling = none` sets it so).
 //
 // The time-step estimate (stiffness()) takes the tangent stiffnesses at an overlap of 1 % of R*:
 // dF_ne/d delta = 2 E* a and k_t. Leapfrog stays stable while the actual stiffness is below
@@ -45,7 +54,8 @@
 //
 // The same arithmetic runs one contact at a time (force) and in the engine's SIMD blocks
 // (force_lanes): the same bits (contact/lanes.hpp). The damping model is a per-type constant
-// that selects by weights of 0 and 1, so one compiled loop serves both.
+// that selects by weights of 0 and 1, so one compiled loop serves both. The rolling model is a
+// lane variant: a type without cdt runs the loop it ran before cdt existed.
 #pragma once
 
 #include <cmath>
@@ -64,6 +74,12 @@ enum class HertzDamping : int { liggghts = 0, tsuji = 1 };
 
 inline const char* to_string(HertzDamping model) { return model == HertzDamping::tsuji ? "tsuji" : "liggghts"; }
 
+/// Hertz-Mindlin's rolling resistance model (when rolling_friction > 0): LIGGGHTS's epsd2 spring or
+/// its constant directional torque cdt.
+enum class HertzRolling : int { epsd = 0, cdt = 1 };
+
+inline const char* to_string(HertzRolling model) { return model == HertzRolling::cdt ? "cdt" : "epsd"; }
+
 struct HertzMindlinParams {
   // The material, as LIGGGHTS users give it.
   double youngs_modulus = 0.0;    // Pa, E
@@ -72,6 +88,7 @@ struct HertzMindlinParams {
   double friction = 0.0;          // -, Coulomb mu
   double rolling_friction = 0.0;  // -, mu_r (0: no rolling resistance)
   HertzDamping damping_model = HertzDamping::liggghts;
+  HertzRolling rolling = HertzRolling::epsd;
 
   // Derived by derive() (the force never takes a logarithm or a polynomial per contact).
   double effective_modulus = 0.0;        // Pa, E*
@@ -127,6 +144,8 @@ struct HertzMindlinParams {
     require_non_negative(where + ".rolling_friction", rolling_friction);
     require(damping_model == HertzDamping::liggghts || damping_model == HertzDamping::tsuji, where + ".damping_model",
             static_cast<int>(damping_model), "liggghts (0) or tsuji (1)");
+    require(rolling == HertzRolling::epsd || rolling == HertzRolling::cdt, where + ".rolling", static_cast<int>(rolling),
+            "epsd (0) or cdt (1)");
     HertzMindlinParams fresh = *this;
     fresh.derive();
     require(fresh.effective_modulus == effective_modulus && fresh.effective_shear_modulus == effective_shear_modulus &&
@@ -150,6 +169,16 @@ DEM_HOT_INLINE Lane3 select_lanes(bool choose, const Lane3& a, const Lane3& b) {
   return {choose ? a.x : b.x, choose ? a.y : b.y, choose ? a.z : b.z};
 }
 
+/// LIGGGHTS's constant directional torque on piece 2: -mu_r R* load w_b / |w|, with w the relative
+/// spin (w2 - w1) and w_b its bend part; zero while w is. Selected, not branched (lanes.hpp).
+DEM_HOT_INLINE Lane3 constant_directional_torque(double rolling_friction, double effective_radius, double load,
+                                                 const Lane3& spin, const Lane3& bend_rate) {
+  const double spin_sq = squared_norm(spin);
+  const bool turning = spin_sq > 0.0;
+  const double per_rate = rolling_friction * effective_radius * load / std::sqrt(turning ? spin_sq : 1.0);
+  return -(turning ? per_rate : 0.0) * bend_rate;
+}
+
 }  // namespace detail
 
 /// Hertz normal force, Mindlin tangential stiffness with Coulomb slip, damping from restitution
@@ -168,10 +197,18 @@ struct HertzMindlinLaw {
     ContactStiffness s;
     s.normal = 2.0 * p.effective_modulus * a;
     s.shear = 8.0 * p.effective_shear_modulus * a;
-    s.rolling = p.rolling_friction > 0.0 ? s.shear * k.effective_radius * k.effective_radius : 0.0;
+    s.rolling = p.rolling_friction > 0.0 && p.rolling == HertzRolling::epsd
+                    ? s.shear * k.effective_radius * k.effective_radius
+                    : 0.0;
     return s;
   }
 
+  /// Lane variants (lanes.hpp): 0 the epsd spring only (the loop of every type without cdt), 1
+  /// either model, the one of the parameters selected per contact (right for any parameters).
+  static constexpr int lane_variants = 2;
+  static int lane_variant(const Params& p) { return p.rolling == HertzRolling::cdt ? 1 : 0; }
+
+  template <int Variant = 1>
   DEM_HOT_INLINE static LaneForce force_lanes(const Params& p, const LaneKinematics& k, State& state) {
     const Lane3& n = k.normal;
     const double normal_speed = dot(k.relative_velocity, n);  // < 0 approaching
@@ -211,12 +248,21 @@ struct HertzMindlinLaw {
     const Lane3 xi_slipping = -inverse_stiffness * (slipping + p.damping_in_slip * damping_force);
     state.shear_displacement = detail::select_lanes(slip, xi_slipping, xi);
 
-    // Rolling resistance: k_r = k_t R*^2 on the bend rate, capped at mu_r R* |F_n|.
+    // Rolling resistance: epsd's k_r = k_t R*^2 on the bend rate, capped at mu_r R* |F_n|; or cdt.
     const Lane3 bend_rate = k.relative_angular_velocity - dot(k.relative_angular_velocity, n) * n;
     Lane3 moment = detail::rotate_into_plane(state.rolling_moment, n);
     moment = moment - (shear_stiffness * k.effective_radius * k.effective_radius * k.dt) * bend_rate;
     moment = detail::cap_length(moment, p.rolling_friction * k.effective_radius * std::abs(normal_total));
-    state.rolling_moment = moment;
+    if constexpr (Variant == 1) {
+      const bool cdt = p.rolling == HertzRolling::cdt;
+      const Lane3 spring = moment;
+      const Lane3 constant = detail::constant_directional_torque(p.rolling_friction, k.effective_radius, elastic_normal,
+                                                                 k.relative_angular_velocity, bend_rate);
+      moment = detail::select_lanes(cdt, constant, spring);
+      state.rolling_moment = detail::select_lanes(cdt, Lane3{}, spring);  // cdt keeps no history
+    } else {
+      state.rolling_moment = moment;
+    }
 
     LaneForce out;
     out.force = normal_total * n + shear_force;
@@ -225,8 +271,10 @@ struct HertzMindlinLaw {
     out.normal_stiffness = 2.0 * p.effective_modulus * contact_radius;  // dF_ne / d delta
     return out;
   }
+  /// One contact at a time, in the parameters' variant (a type without cdt: the arithmetic it ran
+  /// before cdt existed).
   DEM_HOT_INLINE static ContactForce force(const Params& p, const ContactKinematics& k, State& state) {
-    return to_contact_force(force_lanes(p, lane(k), state));
+    return to_contact_force(lane_variant(p) == 1 ? force_lanes<1>(p, lane(k), state) : force_lanes<0>(p, lane(k), state));
   }
 };
 

@@ -50,6 +50,9 @@ const std::map<std::string, std::string>& values_before_keys() {
       {"ball_ball.law", "rrlinear"},  // the one law of the contact types before the registry
       {"ball_facet.law", "rrlinear"},
       {"ball_pebble.law", "rrlinear"},
+      {"ball_ball.rolling", "epsd"},  // Hertz-Mindlin's one rolling model before the key
+      {"ball_facet.rolling", "epsd"},
+      {"ball_pebble.rolling", "epsd"},
   };
   return values;
 }
