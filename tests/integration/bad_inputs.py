@@ -69,6 +69,8 @@ def cases(work, files):
         ("an unknown key", "dem-simple-shear", SMALL + s("shear.target_strian=0.1"), ["shear.target_strian", "target_strain"]),
         ("a key of a law not chosen", "dem-simple-shear", SMALL + s("ball_ball.youngs_modulus=7e10"),
          ["ball_ball.youngs_modulus", "rrlinear"]),
+        ("an unknown rolling model", "dem-simple-shear", SMALL + s("ball_ball.law=hertz-mindlin") + s("ball_ball.rolling=bogus"),
+         ["ball_ball.rolling", "bogus", "cdt"]),
         ("an unknown law", "dem-simple-shear", SMALL + s("ball_ball.law=jkr-ish"), ["ball_ball.law", "jkr-ish", "hertz-mindlin"]),
         ("an unknown element test", "dem-element-test", ["--preset", "4D"] + s("element.test=uniaxial"),
          ["element.test", "uniaxial"]),
