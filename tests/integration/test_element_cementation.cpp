@@ -80,6 +80,12 @@ TEST_CASE("element test: a cemented specimen counts its bonds, and resumes", "[e
   CHECK(made > 100.0);  // most of the compressed specimen's contacts
   const std::size_t last = rows.rows.size() - 1;
   CHECK(at(last, "bonds_intact") + at(last, "bonds_broken_tension") + at(last, "bonds_broken_shear") == made);
+  // summary.json: the bonds at the end, as the last row counts them.
+  const auto summary = testing::load_json(whole / "summary.json");
+  CHECK(summary["bonds"]["installed"].get<double>() == made);
+  CHECK(summary["bonds"]["intact"].get<double>() == at(last, "bonds_intact"));
+  CHECK(summary["bonds"]["broken_shear"].get<double>() == at(last, "bonds_broken_shear"));
+  CHECK(summary["bonds"]["energy_released_J"].get<double>() == Approx(at(last, "bond_energy_released_J")).epsilon(1e-12));
 
   // The same consolidated specimen loaded without cement: no bond columns, another curve.
   io::Config plain = keys;
@@ -88,6 +94,7 @@ TEST_CASE("element test: a cemented specimen counts its bonds, and resumes", "[e
   run_to_end(plain, uncemented, whole / "consolidated.restart");
   const io::CsvData plain_rows = io::read_csv(uncemented / "history.csv");
   CHECK(std::find(plain_rows.columns.begin(), plain_rows.columns.end(), "bonds_intact") == plain_rows.columns.end());
+  CHECK_FALSE(testing::load_json(uncemented / "summary.json").contains("bonds"));
   CHECK(plain_rows.rows.back()[plain_rows.column("deviator_stress")] != rows.rows.back()[rows.column("deviator_stress")]);
 
   // Killed mid-loading, resumed from restart.restart: the same history byte for byte.

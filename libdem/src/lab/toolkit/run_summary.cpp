@@ -16,6 +16,13 @@ void save_summary(const Run& run, io::Json& j, const std::string& resolved_confi
   j["step_timing_s"] = {{"rebuilds", t.rebuilds},       {"ball_ball", t.ball_ball},     {"ball_pebble", t.ball_pebble},
                         {"ball_facet", t.ball_facet},   {"force_sums", t.force_sums},   {"controllers", t.controllers},
                         {"integration", t.integration}, {"communication", t.communication}, {"total", t.total()}};
+  // A cemented specimen's bonds at the end (a plain run's summary has no such entry).
+  if (const BondStore& bonds = w.bonds(); !bonds.empty())
+    j["bonds"] = {{"installed", bonds.size()},
+                  {"intact", bonds.count(BondStatus::intact)},
+                  {"broken_tension", bonds.count(BondStatus::broken_tension)},
+                  {"broken_shear", bonds.count(BondStatus::broken_shear)},
+                  {"energy_released_J", bonds.released_energy()}};
   j["configuration"] = io::Json::parse(resolved_config_json);
   if (run.loaded()) {
     // Which run this one continues, and from where: its rows up to that step came from there.
