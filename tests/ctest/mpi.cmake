@@ -11,7 +11,7 @@ if(TARGET dem_mpi AND TARGET dem-calibrate AND TARGET dem-ensemble AND TARGET de
                      $<TARGET_FILE:dem-calibrate> $<TARGET_FILE:dem-ensemble> ${LIBDEM_MPIRUN})
     set_tests_properties(mpi_task_farms PROPERTIES TIMEOUT 900 LABELS "app;mpi" ENVIRONMENT "OMP_WAIT_POLICY=passive")
     # mpi_domains: one simulation spread over 1, 2 and 3 ranks gives the one-process results bit for
-    # bit (tests/integration/check_mpi_domains.py); about two minutes on two cores.
+    # bit (tests/integration/check_mpi_domains.py); about a minute and a half on two cores.
     add_test(NAME mpi_domains
              COMMAND ${LIBDEM_TEST_PYTHON} ${PROJECT_SOURCE_DIR}/tests/integration/check_mpi_domains.py
                      $<TARGET_FILE:dem-bench> $<TARGET_FILE:dem-simple-shear> $<TARGET_FILE:dem-consolidate>
