@@ -564,6 +564,7 @@ void bind_engine(py::module_& m) {
            }, py::arg("file"),
            "Replaces the state with the one save_state wrote to `file` (set the same contact models first)");
   bind_periodic(m, world_class);
+  bind_bonds(m, world_class);
 }
 
 }  // namespace dem::python

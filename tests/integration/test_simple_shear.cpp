@@ -180,6 +180,18 @@ TEST_CASE("simple shear: a cemented specimen counts its bonds; its plain consoli
   const std::string vtp = file_text(whole / "snapshots/broken_bonds_strain_01.0.vtp");  // the bonds broken by 1 %
   CHECK_THAT(vtp, Contains("shear_strain_broken") && Contains("energy_released_J") && !Contains("NumberOfPoints=\"0\""));
   CHECK(file_text(killed / "snapshots/broken_bonds_strain_01.0.vtp") == vtp);
+  // The snapshot at 1 % has every bond once: intact ones in bonds_*.csv (and .vtp), broken ones
+  // in broken_bonds_*.vtp; both series listed for ParaView, the resumed run's the same.
+  const io::CsvData intact = io::read_csv(whole / "snapshots/bonds_strain_01.0.csv");
+  const auto points = static_cast<std::size_t>(std::stoul(vtp.substr(vtp.find("NumberOfPoints=\"") + 16)));
+  CHECK(intact.rows.size() + points == bonds);
+  CHECK(intact.rows.size() > 0);
+  for (const auto& row : intact.rows) CHECK(row[intact.column("first_id")] != row[intact.column("second_id")]);
+  for (const char* name : {"bonds.pvd", "broken_bonds.pvd", "bonds_strain_01.0.csv", "bonds_strain_01.0.vtp"})
+    CHECK(file_text(killed / "snapshots" / name) == file_text(whole / "snapshots" / name));
+  CHECK_THAT(file_text(whole / "snapshots/bonds.pvd"), Contains("bonds_strain_01.0.vtp"));
+  CHECK_THAT(file_text(whole / "snapshots/broken_bonds.pvd"), Contains("broken_bonds_strain_01.0.vtp"));
+  CHECK_THAT(file_text(whole / "manifest.json"), Contains("bonds_strain_01.0.csv") && Contains("broken_bonds.pvd"));
 }
 
 TEST_CASE("simple shear: bad configuration values are refused with the key and what is allowed", "[simple-shear]") {

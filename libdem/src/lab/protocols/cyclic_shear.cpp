@@ -220,13 +220,8 @@ void CyclicShearTest::run() {
         outcome_.cycles_to_da_strain = n;
       while (next_snapshot_ < config_.snapshot_cycles.size() && n >= config_.snapshot_cycles[next_snapshot_] - 1e-12) {
         const std::string label = cycle_label(config_.snapshot_cycles[next_snapshot_++]);
-        snapshots_->write(w, label, w.time(), last_sample_.strain.norm());
+        snapshots_->write(w, label, w.time(), last_sample_.strain.norm(), broken_bonds_.get());
         run_.record_outputs(snapshots_->files());
-        if (broken_bonds_) {
-          const std::filesystem::path file = snapshots_->directory() / ("broken_bonds_" + label + ".vtp");
-          broken_bonds_->write_vtp(w, file);
-          run_.record_outputs({file});
-        }
       }
       while (next_fabric_ < config_.fabric_cycles.size() && n >= config_.fabric_cycles[next_fabric_] - 1e-12)
         fabric_->record(w, cycle_label(config_.fabric_cycles[next_fabric_++]), last_sample_.strain.norm());

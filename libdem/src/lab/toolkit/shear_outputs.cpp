@@ -90,13 +90,8 @@ void ShearOutputs::record(double strain, bool force) {
   for (; fabric_due(); ++next_fabric_) fabric_->record(world, label_for(out.fabric_strains[next_fabric_]), strain);
   for (; snapshot_due(); ++next_snapshot_) {
     const std::string label = label_for(out.snapshot_strains[next_snapshot_]);
-    snapshots_->write(world, label, world.time(), strain);
+    snapshots_->write(world, label, world.time(), strain, broken_bonds_.get());
     run_.record_outputs(snapshots_->files());
-    if (broken_bonds_) {
-      const std::filesystem::path file = snapshots_->directory() / ("broken_bonds_" + label + ".vtp");
-      broken_bonds_->write_vtp(world, file);
-      run_.record_outputs({file});
-    }
   }
 }
 

@@ -65,6 +65,34 @@ void write_walls_vtp(const fs::path& path, const std::vector<Wall>& walls) {
   io::write_triangles_vtp(path, points, triangles, {{"wall", owner}});
 }
 
+// The intact bonds between their balls' centres, in bond order (the order they were made, the same
+// on any thread or process count).
+void write_bonds(const World& world, const fs::path& vtp, const fs::path& csv) {
+  const BondStore& b = world.bonds();
+  const ParticleStore& p = world.particles();
+  std::vector<std::pair<Vec3, Vec3>> segments;
+  std::vector<double> radius, normal_force, shear_force, twist_moment, bend_moment;
+  io::CsvTable table({"first_id", "second_id", "radius", "normal_force", "shear_x", "shear_y", "shear_z", "twist_moment",
+                      "bend_x", "bend_y", "bend_z"});
+  for (std::size_t k = 0; k < b.size(); ++k) {
+    if (!b.intact(k)) continue;
+    segments.emplace_back(p.x[p.index_of(b.first[k])], p.x[p.index_of(b.second[k])]);
+    radius.push_back(b.radius[k]);
+    normal_force.push_back(b.normal_force[k]);
+    shear_force.push_back(b.shear_force[k].norm());
+    twist_moment.push_back(std::abs(b.twist_moment[k]));
+    bend_moment.push_back(b.bend_moment[k].norm());
+    const Vec3& f = b.shear_force[k];
+    const Vec3& m = b.bend_moment[k];
+    table.add_row({static_cast<double>(b.first[k]), static_cast<double>(b.second[k]), b.radius[k], b.normal_force[k],
+                   f.x(), f.y(), f.z(), b.twist_moment[k], m.x(), m.y(), m.z()});
+  }
+  io::write_lines_vtp(vtp, segments,
+                      {{"normal_force", normal_force}, {"shear_force", shear_force}, {"twist_moment", twist_moment},
+                       {"bend_moment", bend_moment}, {"radius", radius}});
+  table.save(csv);
+}
+
 std::string number_text(double value) {
   std::ostringstream out;
   out.imbue(std::locale::classic());
@@ -75,12 +103,14 @@ std::string number_text(double value) {
 
 }  // namespace
 
-SnapshotWriter::SnapshotWriter(fs::path dir) : dir_(std::move(dir)) {
+SnapshotWriter::SnapshotWriter(fs::path dir)
+    : dir_(std::move(dir)), bond_collection_(dir_ / "bonds.pvd"), broken_bond_collection_(dir_ / "broken_bonds.pvd") {
   require(!dir_.empty(), "snapshot directory", "\"\"", "a path");
   for (const char* kind : kinds) collections_.emplace_back(dir_ / (std::string(kind) + ".pvd"));
 }
 
-void SnapshotWriter::write(const World& world, const std::string& label, double time, double shear_strain) {
+void SnapshotWriter::write(const World& world, const std::string& label, double time, double shear_strain,
+                           const BrokenBondLog* broken_bonds) {
   require(is_safe_label(label), "snapshot label", "\"" + label + "\"",
           "non-empty, made of letters, digits, '_', '-', '.' (it is part of file names)");
   for (const auto& row : index_)
@@ -159,8 +189,11 @@ void SnapshotWriter::write(const World& world, const std::string& label, double 
   contact_csv.save(file_of(dir_, kinds[1], label, ".csv"));
   write_walls_vtp(vtp[2], world.walls());
   io::write_points_vtp(vtp[3], pebble_x, {{"radius", pebble_r}, {"clump", pebble_clump}});
+  const bool bonded = !world.bonds().empty();
+  if (bonded) write_bonds(world, file_of(dir_, "bonds", label, ".vtp"), file_of(dir_, "bonds", label, ".csv"));
+  if (broken_bonds) broken_bonds->write_vtp(world, file_of(dir_, "broken_bonds", label, ".vtp"));
 
-  const IndexRow row{label, time, shear_strain, balls.size(), contacts.size()};
+  const IndexRow row{label, time, shear_strain, balls.size(), contacts.size(), bonded, broken_bonds != nullptr};
   add_to_collections(row);
   index_.push_back(row);
   save_index();
@@ -170,6 +203,8 @@ void SnapshotWriter::write(const World& world, const std::string& label, double 
 void SnapshotWriter::add_to_collections(const IndexRow& row) {
   for (std::size_t k = 0; k < kinds.size(); ++k)
     collections_[k].add(row.time, file_of(dir_, kinds[k], row.label, ".vtp"));
+  if (row.bonds) bond_collection_.add(row.time, file_of(dir_, "bonds", row.label, ".vtp"));
+  if (row.broken_bonds) broken_bond_collection_.add(row.time, file_of(dir_, "broken_bonds", row.label, ".vtp"));
 }
 
 std::vector<fs::path> SnapshotWriter::files() const {
@@ -178,11 +213,19 @@ std::vector<fs::path> SnapshotWriter::files() const {
   if (fs::exists(dir_ / "snapshots.csv", error)) written.push_back(dir_ / "snapshots.csv");
   if (!index_.empty())
     for (const char* kind : kinds) written.push_back(dir_ / (std::string(kind) + ".pvd"));
-  for (const auto& row : index_)
+  if (!bond_collection_.entries().empty()) written.push_back(dir_ / "bonds.pvd");
+  if (!broken_bond_collection_.entries().empty()) written.push_back(dir_ / "broken_bonds.pvd");
+  for (const auto& row : index_) {
     for (const char* kind : kinds) {
       written.push_back(file_of(dir_, kind, row.label, ".vtp"));
       if (kind == kinds[0] || kind == kinds[1]) written.push_back(file_of(dir_, kind, row.label, ".csv"));
     }
+    if (row.bonds) {
+      written.push_back(file_of(dir_, "bonds", row.label, ".vtp"));
+      written.push_back(file_of(dir_, "bonds", row.label, ".csv"));
+    }
+    if (row.broken_bonds) written.push_back(file_of(dir_, "broken_bonds", row.label, ".vtp"));
+  }
   return written;
 }
 
@@ -224,9 +267,15 @@ void SnapshotWriter::resume(std::size_t snapshots) {
   for (std::size_t k = snapshots; k < rows.size(); ++k) {
     for (const char* kind : kinds)
       for (const char* extension : {".vtp", ".csv"}) fs::remove(file_of(dir_, kind, rows[k].label, extension));
-    fs::remove(file_of(dir_, "broken_bonds", rows[k].label, ".vtp"));  // a cemented run's (lab/toolkit/broken_bonds.hpp)
+    for (const char* extension : {".vtp", ".csv"}) fs::remove(file_of(dir_, "bonds", rows[k].label, extension));
+    fs::remove(file_of(dir_, "broken_bonds", rows[k].label, ".vtp"));
   }
   rows.resize(snapshots);
+  // A cemented run's bond files are not in the index: their presence says which snapshots have them.
+  for (IndexRow& row : rows) {
+    row.bonds = fs::exists(file_of(dir_, "bonds", row.label, ".vtp"));
+    row.broken_bonds = fs::exists(file_of(dir_, "broken_bonds", row.label, ".vtp"));
+  }
 
   last_position_.clear();
   if (!rows.empty()) {
@@ -236,9 +285,13 @@ void SnapshotWriter::resume(std::size_t snapshots) {
   }
   collections_.clear();
   for (const char* kind : kinds) collections_.emplace_back(dir_ / (std::string(kind) + ".pvd"));
+  bond_collection_ = io::PvdCollection(dir_ / "bonds.pvd");
+  broken_bond_collection_ = io::PvdCollection(dir_ / "broken_bonds.pvd");
   for (const auto& row : rows) add_to_collections(row);
   if (rows.empty())
     for (const char* kind : kinds) fs::remove(dir_ / (std::string(kind) + ".pvd"));
+  if (bond_collection_.entries().empty()) fs::remove(dir_ / "bonds.pvd");
+  if (broken_bond_collection_.entries().empty()) fs::remove(dir_ / "broken_bonds.pvd");
   index_ = std::move(rows);
   save_index();
 }

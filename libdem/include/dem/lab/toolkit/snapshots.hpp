@@ -15,8 +15,16 @@
 //   walls_<label>.vtp     the triangles of every facet wall at their current position, with cell
 //                         data wall (the WallId)
 //   pebbles_<label>.vtp   the pebbles of the clumps (the rings) as points: radius (m), clump
-// and rewrites balls.pvd, contacts.pvd, walls.pvd and pebbles.pvd (ParaView time series, time =
-// the `time` argument) and the index snapshots.csv: label,time_s,shear_strain,balls,contacts.
+// and, for a World with bonds (a cemented specimen; a plain one writes neither):
+//   bonds_<label>.vtp     the intact bonds as segments between the two centres, with cell data
+//                         normal_force (N, tension positive), shear_force, twist_moment and
+//                         bend_moment (magnitudes, N and N m) and radius (m, of the bond's disc)
+//   bonds_<label>.csv     first_id,second_id,radius,normal_force,shear_x,shear_y,shear_z,twist_moment,
+//                         bend_x,bend_y,bend_z   (the loads on the second ball; m, N, N m)
+//   broken_bonds_<label>.vtp  the bonds broken so far, when the caller passes its BrokenBondLog
+// and rewrites balls.pvd, contacts.pvd, walls.pvd and pebbles.pvd (and bonds.pvd, broken_bonds.pvd)
+// (ParaView time series, time = the `time` argument) and the index snapshots.csv:
+// label,time_s,shear_strain,balls,contacts.
 // Every file is written atomically. Rows of the CSVs are sorted by ball id, so two snapshots of
 // the same run line up row by row.
 //
@@ -34,6 +42,7 @@
 
 #include <dem/core/world.hpp>
 #include <dem/io/vtk.hpp>
+#include <dem/lab/toolkit/broken_bonds.hpp>
 
 namespace dem::lab {
 
@@ -45,8 +54,10 @@ class SnapshotWriter {
   /// Writes one snapshot. Throws dem::InputError, before writing anything, if `label` is empty,
   /// has a character other than letters, digits, '_', '-', '.' (it becomes part of file names),
   /// or was used by an earlier snapshot of this writer; if time (s) is not finite or is less
-  /// than the previous snapshot's; or if shear_strain (-) is not finite.
-  void write(const World& world, const std::string& label, double time, double shear_strain);
+  /// than the previous snapshot's; or if shear_strain (-) is not finite. `broken_bonds`: a
+  /// cemented run's log of its broken bonds, written beside the snapshot (none: not written).
+  void write(const World& world, const std::string& label, double time, double shear_strain,
+             const BrokenBondLog* broken_bonds = nullptr);
 
   /// Continues the snapshots of an earlier run in the same folder (a resumed simulation): keeps
   /// the first `snapshots` rows of snapshots.csv, deletes the files of later ones, rebuilds the
@@ -60,7 +71,7 @@ class SnapshotWriter {
 
   const std::filesystem::path& directory() const { return dir_; }
   /// Every file of the snapshots written or kept so far: the index, the .pvd collections and
-  /// each snapshot's .vtp and .csv files (a run lists them in its manifest).
+  /// each snapshot's .vtp and .csv files, bond files included (a run lists them in its manifest).
   std::vector<std::filesystem::path> files() const;
 
  private:
@@ -69,6 +80,7 @@ class SnapshotWriter {
     double time;          // s
     double shear_strain;  // -
     std::size_t balls, contacts;
+    bool bonds = false, broken_bonds = false;  // bonds_<label>, broken_bonds_<label> written
   };
 
   void save_index() const;
@@ -77,6 +89,7 @@ class SnapshotWriter {
   std::filesystem::path dir_;
   std::vector<IndexRow> index_;
   std::vector<io::PvdCollection> collections_;          // balls, contacts, walls, pebbles
+  io::PvdCollection bond_collection_, broken_bond_collection_;  // a cemented run's
   std::unordered_map<ParticleId, Vec3> last_position_;  // m, by ball id, at the last snapshot
 };
 
