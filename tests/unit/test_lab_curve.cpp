@@ -57,6 +57,29 @@ TEST_CASE("lab curve: a good file with comments, blank lines and extra columns",
   CHECK(lab.lines == std::vector<std::size_t>{4, 6, 7});
 }
 
+TEST_CASE("lab curve: a simple-shear history.csv gives its consolidated row and shear rows", "[lab-curve]") {
+  // Generation (stage 1) and consolidation rows before, a repeated strain 0, missing values (nan)
+  // in a column the curve does not read.
+  const fs::path file = lab_file("history.csv",
+                                 "time,step,stage,shear_strain,shear_stress,volumetric_strain,bonds_intact\n"
+                                 "0.1,100,1,0,0,0,nan\n"
+                                 "0.2,200,2,0,0,0,nan\n"
+                                 "0.3,300,3,0,120,0,nan\n"
+                                 "0.4,400,3,0.01,30000,-0.001,5\n"
+                                 "0.5,500,3,0.02,52000,0.002,4\n"
+                                 "0.6,600,4,0.02,52000,0.002,4\n");
+  const LabCurve lab = read_lab_curve(file);
+  CHECK(lab.shear_strain == std::vector<double>{0.0, 0.01, 0.02});
+  CHECK(lab.shear_stress == std::vector<double>{0.0, 30000.0, 52000.0});
+  CHECK(lab.volumetric_strain == std::vector<double>{0.0, -0.001, 0.002});
+  CHECK(lab.lines == std::vector<std::size_t>{3, 5, 6});
+  // A history that never sheared is no curve; an empty cell in a column the curve reads is named.
+  CHECK_THROWS_WITH(read_lab_curve(lab_file("unsheared.csv", "step,stage,shear_strain,shear_stress\n1,1,0,0\n2,2,0,0\n")),
+                    Contains("stage 2 and 3") && Contains("1 row"));
+  CHECK_THROWS_WITH(read_lab_curve(lab_file("hole.csv", "step,stage,shear_strain,shear_stress\n1,2,0,0\n2,3,0.01,nan\n")),
+                    Contains("hole.csv:3") && Contains("'shear_stress' is missing (nan)"));
+}
+
 TEST_CASE("lab curve: missing columns name the file and list the columns", "[lab-curve]") {
   const fs::path no_strain = lab_file("no_strain.csv", "strain,shear_stress\n0,0\n0.01,1000\n");
   CHECK_THROWS_AS(read_lab_curve(no_strain), InputError);

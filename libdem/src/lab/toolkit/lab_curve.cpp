@@ -54,6 +54,41 @@ std::optional<std::size_t> find_one(const io::CsvData& data, const std::filesyst
   return suffixed_at ? suffixed_at : plain_at;
 }
 
+// True when the header names a dem-simple-shear history.csv (its `step` and `stage` columns).
+bool is_shear_history(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::string line;
+  while (std::getline(in, line) && !is_data_line(line)) {
+  }
+  std::vector<std::string> names;
+  std::istringstream cells(line);
+  for (std::string name; std::getline(cells, name, ',');) names.push_back(name.substr(0, name.find_last_not_of(" \t\r") + 1));
+  auto has = [&](const char* name) { return std::find(names.begin(), names.end(), name) != names.end(); };
+  return has("step") && has("stage") && has("shear_strain");
+}
+
+// A history's shear as a lab curve: the consolidated row and the shearing ones (stage 2 and 3:
+// lab/toolkit/specimen_file.hpp's ShearStage), a row whose strain does not pass the previous kept
+// row's left out (the consolidated row and the first shear row can both sit at 0).
+void keep_shear_rows(io::CsvData& data, std::vector<std::size_t>& lines, const std::filesystem::path& file) {
+  const std::size_t stage = data.column("stage"), strain = data.column("shear_strain");
+  io::CsvData kept = data;
+  kept.rows.clear();
+  std::vector<std::size_t> kept_lines;
+  for (std::size_t r = 0; r < data.rows.size(); ++r) {
+    const auto& row = data.rows[r];
+    if (!(row[stage] >= 2.0 && row[stage] <= 3.0)) continue;
+    if (!kept.rows.empty() && !(row[strain] > kept.rows.back()[strain])) continue;
+    kept.rows.push_back(row);
+    kept_lines.push_back(r < lines.size() ? lines[r] : 0);
+  }
+  if (kept.rows.size() < 2)
+    throw InputError("lab curve " + file.string() + ": a simple-shear history with " + std::to_string(kept.rows.size()) +
+                     " row(s) of its consolidated specimen and shear (stage 2 and 3): must hold the shear");
+  data = std::move(kept);
+  lines = std::move(kept_lines);
+}
+
 std::string number(double v) {
   std::ostringstream out;
   out.precision(10);
@@ -65,10 +100,14 @@ std::string number(double v) {
 
 LabCurve read_lab_curve(const std::filesystem::path& file, const LabCurveOptions& options) {
   require_input_file(file, "lab curve", "a CSV file of the laboratory curve", max_text_input_bytes);
-  const io::CsvData data = io::read_csv(file);  // file, header, cells (NaN, text) with line numbers
+  // A run's history.csv may be the "lab" curve (one scale calibrated to another's): its empty
+  // cells (NaN) are allowed, in columns the curve does not read.
+  const bool history = is_shear_history(file);
+  io::CsvData data = io::read_csv(file, history ? io::Missing::Allowed : io::Missing::Refused);
   const std::string where = "lab curve " + file.string();
   if (data.rows.empty()) throw InputError(where + ": has a header but no data rows: must hold at least one strain point");
-  const std::vector<std::size_t> lines = data_line_numbers(file);
+  std::vector<std::size_t> lines = data_line_numbers(file);
+  if (history) keep_shear_rows(data, lines, file);
   auto line_of = [&](std::size_t row) { return row < lines.size() ? lines[row] : 0; };
 
   bool strain_suffixed = false, stress_suffixed = false, volumetric_suffixed = false;
@@ -93,6 +132,10 @@ LabCurve read_lab_curve(const std::filesystem::path& file, const LabCurveOptions
     const auto& row = data.rows[r];
     const double strain = row[*strain_col] * strain_scale;
     const std::string at = where + ":" + std::to_string(line_of(r)) + ": column '" + strain_name + "' ";
+    for (const auto column : {strain_col, stress_col, volumetric_col})
+      if (column && !std::isfinite(row[*column]))
+        throw InputError(where + ":" + std::to_string(line_of(r)) + ": column '" + data.columns[*column] +
+                         "' is missing (nan): must be a number");
     if (strain < 0.0) throw InputError(at + "= " + number(row[*strain_col]) + ": must be >= 0 (shear strain from the start of shear)");
     if (r > 0 && !(strain > lab.shear_strain.back()))
       throw InputError(at + "= " + number(row[*strain_col]) + ": must be greater than the previous point's " +

@@ -44,7 +44,8 @@ inline constexpr const char* lab_curve_columns_help =
     "  volumetric_strain          optional: fraction, or % with --strain-percent; the sign\n"
     "                             convention of output.volumetric_strain_sign (default dilation positive)\n"
     "  volumetric_strain_percent  optional instead: %\n"
-    "Units are never guessed from the values.\n";
+    "Units are never guessed from the values. A dem-simple-shear history.csv (a header with step and stage)\n"
+    "is read as its consolidated row and shear rows: one run's curve as the lab curve of another.\n";
 
 struct LabCurve {
   std::filesystem::path file;
@@ -65,7 +66,10 @@ struct LabCurve {
 /// columns for the same quantity (e.g. shear_stress and shear_stress_kPa), a cell that is not a
 /// finite number (NaN, inf, text), a negative strain or one not greater than the previous row's,
 /// and values whose size says the unit in the header is wrong: a strain beyond 1 (100 %), a peak
-/// shear stress below 1 kPa in a Pa column or above 10 MPa in either column.
+/// shear stress below 1 kPa in a Pa column or above 10 MPa in either column. A dem-simple-shear
+/// history.csv (its header has `step` and `stage`) is read as its consolidated row and its shear
+/// rows (stage 2 and 3), in SI, a row whose strain does not pass the previous one's left out:
+/// one run's curve as another's lab curve (docs/size-effect.md, one curve at three scales).
 LabCurve read_lab_curve(const std::filesystem::path& file, const LabCurveOptions& options = {});
 
 /// A model curve sampled along the shear (SI).
