@@ -69,6 +69,9 @@ def cases(work, files):
         ("an unknown key", "dem-simple-shear", SMALL + s("shear.target_strian=0.1"), ["shear.target_strian", "target_strain"]),
         ("a key of a law not chosen", "dem-simple-shear", SMALL + s("ball_ball.youngs_modulus=7e10"),
          ["ball_ball.youngs_modulus", "rrlinear"]),
+        ("the user's E* with another law than the preset's", "dem-simple-shear",
+         ["--preset", "2D"] + s("ball_ball.law=hertz-mindlin") + s("ball_ball.effective_modulus=3e7"),
+         ["ball_ball.effective_modulus", "3e+07", "hertz-mindlin"]),
         ("an unknown rolling model", "dem-simple-shear", SMALL + s("ball_ball.law=hertz-mindlin") + s("ball_ball.rolling=bogus"),
          ["ball_ball.rolling", "bogus", "cdt"]),
         ("an unknown law", "dem-simple-shear", SMALL + s("ball_ball.law=jkr-ish"), ["ball_ball.law", "jkr-ish", "hertz-mindlin"]),
@@ -136,6 +139,13 @@ def main():
         print(f"{'ok  ' if not problems else 'FAIL'} {name}: {message[:300]!r}", flush=True)
         if problems:
             failures.append(f"{name} ({app}): {'; '.join(problems)}")
+    # Not a bad input: another law than the preset's, its own parameters given; the preset's
+    # parameters of its law (the 2D E* 4.4e7) go back to their defaults, not refused as the user's.
+    result = subprocess.run([os.path.join(apps, "dem-simple-shear"), "--preset", "2D", "--set", "ball_ball.law=hertz-mindlin",
+                             "--set", "ball_ball.youngs_modulus=1.8e9", "--print-config"], capture_output=True, text=True, timeout=60)
+    ball_ball = result.stdout.split("[ball_ball]")[-1].split("[ball_facet]")[0]
+    if result.returncode != 0 or "youngs_modulus = 1.8e+09" not in ball_ball or "effective_modulus = 1.2e+07" not in ball_ball:
+        failures.append(f"another law than the 2D preset's: exit {result.returncode}, {result.stderr.strip()[:300]!r}")
     if failures:
         fail(f"{len(failures)} case(s):\n  " + "\n  ".join(failures))
     print(f"all {len(cases(work, files))} bad inputs refused at the door, each naming what was wrong", flush=True)
