@@ -28,12 +28,13 @@ int main(int argc, char** argv) {
   try {
     std::ostringstream quiet;  // progress is the leading rank's to print
     std::ostream& log = farm->leads() ? std::cout : quiet;
+    const std::string modulus = dem::lab::detail::modulus_symbol(cli->config.text("ball_ball.law"));
     dem::lab::Calibration calibration(std::move(cli->config), cli->settings, std::move(cli->lab), cli->out_dir, cli->from, log,
                                       farm.get());
     const dem::lab::CalibrationResult result = calibration.run();
     if (!farm->leads()) return 0;
     const auto& best = result.best_trial;
-    std::cout << "best: E* = " << result.best.effective_modulus << " Pa, mu = " << result.best.friction
+    std::cout << "best: " << modulus << " = " << result.best.modulus << " Pa, mu = " << result.best.friction
               << ", mu_r = " << result.best.rolling_friction << "\nshear stress RD: max " << best.stress_rd_max << " %, mean "
               << best.stress_rd_mean << " % (" << best.stress_points_skipped << " lab points skipped)";
     if (best.volumetric_points_used > 0)

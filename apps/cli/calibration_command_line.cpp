@@ -20,7 +20,7 @@ std::optional<CalibrationCommandLine> parse_calibration_command_line(int argc, c
                              "configuration file (.ini or .json; may hold a [calibration] section)", "calibration.friction_max=1");
   opts.add_options()("lab", po::value<std::string>(), "laboratory curve, CSV (format below); required")(
       "out,o", po::value<std::string>()->default_value("runs/calibration"), "output folder; run again with the same folder to resume")(
-      "fit", po::value<std::string>()->default_value("emod,friction,rolling"), "parameters to fit: comma-separated emod (E*), friction (mu), rolling (mu_r)")(
+      "fit", po::value<std::string>()->default_value("emod,friction,rolling"), "parameters to fit: comma-separated emod (the law's modulus: E* of rrlinear and linear, E of the Hertz laws), friction (mu), rolling (mu_r)")(
       "from", po::value<std::string>(), "restart file of the specimen: right after generation, or consolidated with the starting E* (dem-consolidate)")(
       "parallel-trials", po::value<int>()->default_value(1), "trials run at the same time, each with threads/parallel-trials threads; results do not depend on it")(
       "strain-percent", "strain columns of the lab CSV without a _percent suffix are in % (never guessed)")(
@@ -33,7 +33,8 @@ std::optional<CalibrationCommandLine> parse_calibration_command_line(int argc, c
            "matches a laboratory one, in the study's four stages: (1) E* from the initial slope of shear stress against\n"
            "strain, (2) mu from the peak shear stress, (3) mu_r from the peak, (4) mu and mu_r together on the mean\n"
            "relative difference of the whole curve. The specimen is generated and consolidated once, and again per E*; every\n"
-           "trial shears it along the first shear direction to the lab's largest strain.\n\n"
+           "trial shears it along the first shear direction to the lab's largest strain. With ball_ball.law = hertz-mindlin\n"
+           "or hertz-dmt, Young's modulus E takes E*'s place (its bounds are calibration.effective_modulus_min/max).\n\n"
            "Usage: dem-calibrate --lab lab.csv [--preset 4D] [--config FILE] [--set key=value ...] [--out DIR]\n"
            "                     [--fit emod,friction,rolling] [--from FILE] [--threads N] [--parallel-trials N]\n"
            "       mpirun --bind-to none -n RANKS dem-calibrate ... (each round's trials spread over the ranks, --threads\n"

@@ -29,8 +29,8 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-std::string describe(const ContactFit& f) {
-  return "E* = " + detail::short_text(f.effective_modulus) + " Pa, mu = " + detail::short_text(f.friction) + ", mu_r = " +
+std::string describe(const ContactFit& f, const std::string& modulus_symbol) {
+  return modulus_symbol + " = " + detail::short_text(f.modulus) + " Pa, mu = " + detail::short_text(f.friction) + ", mu_r = " +
          detail::short_text(f.rolling_friction);
 }
 
@@ -63,7 +63,7 @@ struct TrialColumn {
 const TrialColumn trial_columns[] = {
     DEM_TRIAL_COLUMN("trial", trial, int),
     DEM_TRIAL_COLUMN("stage", stage, int),
-    DEM_TRIAL_COLUMN("effective_modulus", fit.effective_modulus, double),
+    DEM_TRIAL_COLUMN("modulus", fit.modulus, double),  // named by the law's key in files (trial_column_names)
     DEM_TRIAL_COLUMN("friction", fit.friction, double),
     DEM_TRIAL_COLUMN("rolling_friction", fit.rolling_friction, double),
     DEM_TRIAL_COLUMN("shear_stress_rd_max_percent", stress_rd_max, double),
@@ -108,11 +108,19 @@ std::vector<TrialResult> trials_from_bytes(const std::string& bytes) {
   return trials;
 }
 
+// The columns' names in trials.csv: the modulus under the law's own key (effective_modulus, the
+// only one before other laws could be fitted, or youngs_modulus).
+std::vector<std::string> trial_column_names(const std::string& modulus_key) {
+  std::vector<std::string> names;
+  for (const TrialColumn& c : trial_columns) names.push_back(std::string(c.name) == "modulus" ? modulus_key : c.name);
+  return names;
+}
+
 // Rows of trials.csv (or of a trial folder's result.csv), each column found by its name.
-std::vector<TrialResult> read_trial_rows(const fs::path& file) {
+std::vector<TrialResult> read_trial_rows(const fs::path& file, const std::string& modulus_key) {
   const io::CsvData data = io::read_csv(file);
   std::vector<std::size_t> index;
-  for (const TrialColumn& c : trial_columns) index.push_back(data.column(c.name));  // InputError names a missing one
+  for (const std::string& name : trial_column_names(modulus_key)) index.push_back(data.column(name));  // InputError names a missing one
   require(data.columns.size() == index.size(), file.string() + " columns", data.columns.size(),
           std::to_string(index.size()) + ", the columns dem-calibrate writes (no others)");
   std::vector<TrialResult> rows;
@@ -124,10 +132,8 @@ std::vector<TrialResult> read_trial_rows(const fs::path& file) {
   return rows;
 }
 
-void write_trial_rows(const fs::path& file, const std::vector<TrialResult>& rows) {
-  std::vector<std::string> names;
-  for (const TrialColumn& c : trial_columns) names.push_back(c.name);
-  io::CsvTable table(names);
+void write_trial_rows(const fs::path& file, const std::vector<TrialResult>& rows, const std::string& modulus_key) {
+  io::CsvTable table(trial_column_names(modulus_key));
   for (const TrialResult& t : rows) {
     std::vector<double> row;
     for (const TrialColumn& c : trial_columns) row.push_back(c.get(t));
@@ -136,7 +142,7 @@ void write_trial_rows(const fs::path& file, const std::vector<TrialResult>& rows
   table.save(file);
 }
 
-const char* const stage_names[] = {"outside the searches", "1 (E*, initial slope)", "2 (mu, peak)", "3 (mu_r, peak or dilatancy)",
+const char* const stage_names[] = {"outside the searches", "1 (modulus, initial slope)", "2 (mu, peak)", "3 (mu_r, peak or dilatancy)",
                                    "4 (mu and mu_r, whole curve)"};
 
 }  // namespace
@@ -164,17 +170,18 @@ Calibration::Calibration(io::Config config, CalibrationSettings settings, LabCur
   farm_->together([&] {
     require(settings_.threads >= 1, "--threads", settings_.threads, ">= 1");
     require(settings_.parallel_trials >= 1, "--parallel-trials", settings_.parallel_trials, ">= 1");
-    start_ = {config_.real("ball_ball.effective_modulus"), config_.real("ball_ball.friction"), config_.real("ball_ball.rolling_friction")};
-    // The fitted parameters are the linear laws' E*, mu and mu_r (core/law_registry.hpp roles).
+    // The fitted parameters are the law's modulus, mu and mu_r (core/law_registry.hpp roles).
     const LawEntry& law = contact_law(config_.text("ball_ball.law"), "ball_ball.law");
-    require(law.roles.stiffness == "effective_modulus" && law.roles.friction == "friction", "ball_ball.law", law.keyword,
-            "a law with effective_modulus and friction to fit (rrlinear or linear)");
+    modulus_key_ = detail::modulus_key(law.keyword);
+    modulus_symbol_ = detail::modulus_symbol(law.keyword);
+    require(law.roles.friction == "friction", "ball_ball.law", law.keyword, "a law with a friction to fit");
+    start_ = {config_.real("ball_ball." + modulus_key_), config_.real("ball_ball.friction"), config_.real("ball_ball.rolling_friction")};
     require(!settings_.fit_rolling || !law.roles.rolling_friction.empty(), "ball_ball.law", law.keyword,
             "a law with rolling friction when --fit includes rolling (rrlinear), or --fit without rolling");
     auto within = [](const std::string& key, double v, double lo, double hi, const std::string& bounds) {
       require(v >= lo && v <= hi, key, v, "within [" + detail::exact_text(lo) + ", " + detail::exact_text(hi) + "] (" + bounds + ")");
     };
-    within("ball_ball.effective_modulus", start_.effective_modulus, settings_.effective_modulus_min, settings_.effective_modulus_max, "calibration.effective_modulus_min/max");
+    within("ball_ball." + modulus_key_, start_.modulus, settings_.effective_modulus_min, settings_.effective_modulus_max, "calibration.effective_modulus_min/max");
     within("ball_ball.friction", start_.friction, settings_.friction_min, settings_.friction_max, "calibration.friction_min/max");
     within("ball_ball.rolling_friction", start_.rolling_friction, settings_.rolling_friction_min, settings_.rolling_friction_max, "calibration.rolling_friction_min/max");
 
@@ -295,11 +302,11 @@ std::string Calibration::setup_text() const {
 }
 
 void Calibration::load_trials() {
-  trials_ = read_trial_rows(out_dir_ / "trials.csv");
+  trials_ = read_trial_rows(out_dir_ / "trials.csv", modulus_key_);
   std::sort(trials_.begin(), trials_.end(), [](const TrialResult& a, const TrialResult& b) { return a.trial < b.trial; });
 }
 
-void Calibration::save_trials() const { write_trial_rows(out_dir_ / "trials.csv", trials_); }
+void Calibration::save_trials() const { write_trial_rows(out_dir_ / "trials.csv", trials_, modulus_key_); }
 
 TrialResult Calibration::measure(const ContactFit& fit, const ModelCurve& model, int number, int stage, double seconds) const {
   const CurveComparison c = compare_curves(lab_, model, settings_.comparison);
@@ -363,11 +370,11 @@ std::vector<TrialResult> Calibration::evaluate(const std::vector<ContactFit>& ba
     std::ostringstream line;
     line << "trial " << p.asked << " of at most " << p.max_trials << ", stage " << stage_names[stage] << (reused ? ", reused" : "")
          << (rank >= 0 && farm_->processes() > 1 ? " on rank " + std::to_string(rank) : std::string())
-         << ": " << describe(t.fit) << ", mean RD " << detail::short_text(t.stress_rd_mean, 3) << " %";
+         << ": " << describe(t.fit, modulus_symbol_) << ", mean RD " << detail::short_text(t.stress_rd_mean, 3) << " %";
     if (t.volumetric_rd_mean >= 0) line << " (volumetric " << detail::short_text(t.volumetric_rd_mean, 3) << " %)";
-    if (current != trials_.end() && current->fit != t.fit) line << " | search at: " << describe(current->fit);
+    if (current != trials_.end() && current->fit != t.fit) line << " | search at: " << describe(current->fit, modulus_symbol_);
     if (lowest != trials_.end())
-      line << " | best so far: trial " << lowest->trial << ", " << describe(lowest->fit) << ", mean RD "
+      line << " | best so far: trial " << lowest->trial << ", " << describe(lowest->fit, modulus_symbol_) << ", mean RD "
            << detail::short_text(lowest->stress_rd_mean, 3) << " %";
     line << " | time left <= " << detail::short_text(left / 60.0, 2) << " min (estimate)";
     log_ << line.str() << std::endl;
@@ -386,7 +393,7 @@ std::vector<TrialResult> Calibration::evaluate(const std::vector<ContactFit>& ba
     for (std::size_t i : todo) {
       const fs::path file = shears_->trial_dir(numbers[i]) / "result.csv";
       if (!fs::exists(file)) continue;
-      const std::vector<TrialResult> rows = read_trial_rows(file);
+      const std::vector<TrialResult> rows = read_trial_rows(file, modulus_key_);
       if (rows.size() == 1 && rows[0].trial == numbers[i] && rows[0].fit == batch[i]) found.push_back(rows[0]);
     }
     return trials_bytes(found);
@@ -402,7 +409,7 @@ std::vector<TrialResult> Calibration::evaluate(const std::vector<ContactFit>& ba
 
   const int threads = std::max(1, settings_.threads / settings_.parallel_trials);
   std::vector<double> moduli;
-  for (std::size_t i : todo) moduli.push_back(batch[i].effective_modulus);
+  for (std::size_t i : todo) moduli.push_back(batch[i].modulus);
   const std::vector<double> prepare_seconds = shears_->prepare(moduli, settings_.parallel_trials, threads);
 
   // A trial runs on one process; its result reaches every process as the bytes of its columns,
@@ -416,12 +423,12 @@ std::vector<TrialResult> Calibration::evaluate(const std::vector<ContactFit>& ba
         try {
           model = shears_->shear(batch[i], target_strain_, numbers[i], threads);
         } catch (const InputError& e) {
-          throw InputError("trial " + std::to_string(numbers[i]) + " (" + describe(batch[i]) + "): " + e.what());
+          throw InputError("trial " + std::to_string(numbers[i]) + " (" + describe(batch[i], modulus_symbol_) + "): " + e.what());
         } catch (const std::exception& e) {
-          throw std::runtime_error("trial " + std::to_string(numbers[i]) + " (" + describe(batch[i]) + "): " + e.what());
+          throw std::runtime_error("trial " + std::to_string(numbers[i]) + " (" + describe(batch[i], modulus_symbol_) + "): " + e.what());
         }
         const TrialResult t = measure(batch[i], model, numbers[i], stage, seconds_since(t0) + prepare_seconds[k]);
-        write_trial_rows(shears_->trial_dir(numbers[i]) / "result.csv", {t});
+        write_trial_rows(shears_->trial_dir(numbers[i]) / "result.csv", {t}, modulus_key_);
         return trials_bytes({t});
       },
       [&](std::size_t k, const std::string& bytes) {
@@ -506,7 +513,7 @@ CalibrationResult Calibration::run() {
     for (const auto& [u, v] : values)
       if (u == best_u) p.current.*member = v;
     result.stage_notes.push_back((s.cycles > 1 ? "cycle " + std::to_string(cycle) + ", " : std::string()) + "stage " +
-                                 std::string(stage_names[stage]) + ": " + describe(p.current) + ", mismatch " +
+                                 std::string(stage_names[stage]) + ": " + describe(p.current, modulus_symbol_) + ", mismatch " +
                                  detail::short_text(search.best_value(), 3) + " after " + std::to_string(search.evaluations()) +
                                  " trial(s); " + search.reason());
     log_ << result.stage_notes.back() << std::endl;
@@ -529,7 +536,7 @@ CalibrationResult Calibration::run() {
   for (cycle = 1; cycle <= s.cycles; ++cycle) {
     const ContactFit before = p.current;
     if (s.fit_modulus)
-      root_stage(1, &ContactFit::effective_modulus, true, s.effective_modulus_min, s.effective_modulus_max, std::log(2.0), std::log(4.0), 0.5,
+      root_stage(1, &ContactFit::modulus, true, s.effective_modulus_min, s.effective_modulus_max, std::log(2.0), std::log(4.0), 0.5,
                  slope_mismatch);
     if (s.fit_friction)
       root_stage(2, &ContactFit::friction, false, s.friction_min, s.friction_max, std::max(0.33 * p.current.friction, 0.05),
@@ -581,7 +588,7 @@ CalibrationResult Calibration::run() {
       search.tell(xs, f);
       for (std::size_t d = 0; d < members.size(); ++d) p.current.*members[d] = search.best()[d];
     }
-    result.stage_notes.push_back("stage " + std::string(stage_names[4]) + ": " + describe(p.current) + ", objective " +
+    result.stage_notes.push_back("stage " + std::string(stage_names[4]) + ": " + describe(p.current, modulus_symbol_) + ", objective " +
                                  detail::short_text(search.best_value(), 3) + " % after " + std::to_string(search.evaluations()) +
                                  " trial(s); " + search.reason());
     log_ << result.stage_notes.back() << std::endl;

@@ -19,8 +19,8 @@ using S = CalibrationSettings;
 // The [calibration] keys: one row per key, in the order of --help and --print-config.
 const BindingTable<S>& calibration_keys() {
   static const BindingTable<S> table = {
-      {"effective_modulus_min", &S::effective_modulus_min, "Pa", "lower bound of E* (ball-ball)", 0.0, {}, true},
-      {"effective_modulus_max", &S::effective_modulus_max, "Pa", "upper bound of E* (ball-ball)", 0.0, {}, true},
+      {"effective_modulus_min", &S::effective_modulus_min, "Pa", "lower bound of the fitted modulus, E* (rrlinear, linear) or E (hertz-mindlin, hertz-dmt) (ball-ball)", 0.0, {}, true},
+      {"effective_modulus_max", &S::effective_modulus_max, "Pa", "upper bound of the fitted modulus, E* (rrlinear, linear) or E (hertz-mindlin, hertz-dmt) (ball-ball)", 0.0, {}, true},
       {"friction_min", &S::friction_min, "-", "lower bound of mu (ball-ball)", 0.0},
       {"friction_max", &S::friction_max, "-", "upper bound of mu (ball-ball)", 0.0},
       {"rolling_friction_min", &S::rolling_friction_min, "-", "lower bound of mu_r (ball-ball)", 0.0},
@@ -80,7 +80,7 @@ io::Config shear_config_with(const io::Config& config, const ContactFit& fit) {
   const io::Schema shear = simple_shear_schema();
   io::Config out(shear);
   for (const io::KeySpec& spec : shear.keys()) out.set(spec.key, config.exact_text(spec.key));
-  out.set("ball_ball.effective_modulus", detail::exact_text(fit.effective_modulus));
+  out.set("ball_ball." + detail::modulus_key(config.text("ball_ball.law")), detail::exact_text(fit.modulus));
   out.set("ball_ball.friction", detail::exact_text(fit.friction));
   out.set("ball_ball.rolling_friction", detail::exact_text(fit.rolling_friction));
   return out;

@@ -52,7 +52,7 @@ CurveComparison Calibration::comparison(const TrialResult& trial) {
   });
   if (curve.empty()) {
     const int threads = std::max(1, settings_.threads);
-    shears_->prepare({trial.fit.effective_modulus}, 1, threads);
+    shears_->prepare({trial.fit.modulus}, 1, threads);
     curve = farm_->on_leader([&] { return curve_bytes(shears_->shear(trial.fit, target_strain_, trial.trial, threads)); });
   }
   return compare_curves(lab_, curve_from_bytes(curve), settings_.comparison);
@@ -91,9 +91,9 @@ void Calibration::write_outputs(const CalibrationResult& result, int max_trials)
   if (rolling_by_dilatancy_) j["lab"]["late_dilatancy"] = lab_dilatancy_;
   j["lab"]["initial_slope_Pa"] = lab_slope_;
   j["lab"]["initial_slope_up_to_strain"] = slope_limit_;
-  auto params = [](const ContactFit& f) {
+  auto params = [this](const ContactFit& f) {
     io::Json o;
-    o["effective_modulus_Pa"] = f.effective_modulus;
+    o[modulus_key_ + "_Pa"] = f.modulus;
     o["friction"] = f.friction;
     o["rolling_friction"] = f.rolling_friction;
     return o;

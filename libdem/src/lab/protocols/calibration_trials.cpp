@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include <dem/core/errors.hpp>
+#include <dem/core/law_registry.hpp>
 #include <dem/io/csv.hpp>
 #include <dem/lab/toolkit/history_log.hpp>
 #include <dem/lab/toolkit/shear_legs.hpp>
@@ -38,6 +39,14 @@ std::string exact_text(double v) {
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, v);
   return {buffer, result.ptr};
 }
+
+std::string modulus_key(const std::string& keyword) {
+  const LawEntry& law = contact_law(keyword, "ball_ball.law");
+  require(!law.roles.stiffness.empty(), "ball_ball.law", keyword, "a law with a modulus to fit");
+  return law.roles.stiffness;
+}
+
+std::string modulus_symbol(const std::string& keyword) { return modulus_key(keyword) == "effective_modulus" ? "E*" : "E"; }
 
 }  // namespace detail
 
@@ -175,7 +184,7 @@ ShearTrials::~ShearTrials() = default;
 
 SimpleShearConfig ShearTrials::config_for(const ContactFit& fit, int threads) const {
   SimpleShearConfig c = base_;
-  c.ball_ball.set_stiffness(fit.effective_modulus);
+  c.ball_ball.set_stiffness(fit.modulus);
   c.ball_ball.set_friction(fit.friction);
   if (!c.ball_ball.entry().roles.rolling_friction.empty()) c.ball_ball.set_rolling_friction(fit.rolling_friction);
   c.engine.threads = std::max(1, threads);
@@ -286,7 +295,7 @@ void ShearTrials::consolidate_specimen(double modulus, int threads) {
 }
 
 ModelCurve ShearTrials::shear(const ContactFit& fit, double strain, int number, int threads) const {
-  const fs::path restart = specimen_restart(fit.effective_modulus);
+  const fs::path restart = specimen_restart(fit.modulus);
   require(fs::exists(restart), "consolidated specimen", restart.string(), "prepared before the trial (ShearTrials::prepare)");
   const fs::path dir = trial_dir(number);
   fs::remove_all(dir);

@@ -54,9 +54,10 @@
 
 namespace dem::lab {
 
-/// The parameters a calibration fits (ball-ball contacts).
+/// The parameters a calibration fits (ball-ball contacts): the law's modulus (its stiffness role,
+/// core/law_registry.hpp: E* of rrlinear and linear, Young's modulus E of the Hertz laws), mu, mu_r.
 struct ContactFit {
-  double effective_modulus = 0.0;  // Pa, E*
+  double modulus = 0.0;            // Pa, E* or E (modulus_key())
   double friction = 0.0;           // -, mu
   double rolling_friction = 0.0;   // -, mu_r
   friend bool operator==(const ContactFit&, const ContactFit&) = default;
@@ -180,7 +181,7 @@ enum class ModulusSpecimen { Reconsolidated, Generated };
 
 struct CalibrationSettings {
   bool fit_modulus = true, fit_friction = true, fit_rolling = true;
-  double effective_modulus_min = 1e6, effective_modulus_max = 1e10;  // Pa, bounds of E*
+  double effective_modulus_min = 1e6, effective_modulus_max = 1e10;  // Pa, bounds of the fitted modulus (E* or E)
   double friction_min = 0.01, friction_max = 2.0;
   double rolling_friction_min = 0.0, rolling_friction_max = 1.0;
   int max_trials_per_stage = 8;
@@ -339,6 +340,8 @@ class Calibration {
   std::unique_ptr<parallel::LocalFarm> own_farm_;  // when given none
   parallel::TaskFarm* farm_;
   ContactFit start_;
+  std::string modulus_key_ = "effective_modulus";  // the ball-ball law's stiffness parameter
+  std::string modulus_symbol_ = "E*";              // its symbol in messages: E* or E
   double lab_slope_ = 0, lab_peak_ = 0, slope_limit_ = 0, target_strain_ = 0;
   bool rolling_by_dilatancy_ = false;  // stage 3 matches the late dilatancy (else the peak)
   double lab_dilatancy_ = 0;           // -, late dilatancy of the lab curve
@@ -352,6 +355,11 @@ namespace detail {
 std::string exact_text(double v);
 /// `digits` significant digits, for progress lines and messages.
 std::string short_text(double v, int digits = 4);
+/// The key (under ball_ball) of the modulus a calibration fits for the law `keyword`: its stiffness
+/// role, effective_modulus (rrlinear, linear) or youngs_modulus (hertz-mindlin, hertz-dmt); and its
+/// symbol, E* or E. InputError naming ball_ball.law for a law without one.
+std::string modulus_key(const std::string& keyword);
+std::string modulus_symbol(const std::string& keyword);
 }  // namespace detail
 
 }  // namespace dem::lab
