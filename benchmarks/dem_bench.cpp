@@ -30,6 +30,7 @@
 
 #include <dem/core/block_isa.hpp>
 #include <dem/dem.hpp>
+#include <dem/lab/toolkit/cementation.hpp>
 
 #include "bench_system.hpp"
 #include "cpu_steal.hpp"
@@ -122,6 +123,10 @@ int main(int argc, char** argv) {
       "rolling", po::value<std::string>()->default_value("epsd"),
       "hertz-mindlin's rolling resistance: epsd (LIGGGHTS's epsd2 spring) or cdt (its constant directional torque), "
       "the model compare-peers --law hertz gives LIGGGHTS")(
+      "cement", po::value<double>()->default_value(0.0),
+      "bond every pair of balls whose gap is below this x their mean radius (lab::cement) with linear parallel "
+      "bonds too strong to break, their kn A the contacts' normal stiffness at the mean radius: the bonded step's "
+      "cost against the plain one's (0: no bonds)")(
       "digest", "print a hash of the final state (state_digest), the same bit for bit for any rank and thread count")(
       "isa", po::value<std::string>()->default_value("best"),
       "instruction set of the contact blocks and the leapfrog: best (the processor's), avx512, avx2 or scalar; "
@@ -237,6 +242,15 @@ int main(int argc, char** argv) {
     if (domains) world.spread_over(domains);
 
     world.step(1);  // neighbour lists and contacts, as the peers' setup before the timed run
+    if (const double gap_ratio = vm["cement"].as<double>(); gap_ratio > 0.0) {
+      require(!domains, "--cement", gap_ratio, "one process (bonds do not cross ranks yet)");
+      const double r_mean = 0.25 * (2 * r_min + 2 * r_max);
+      ParallelBondMaterial cement;
+      cement.normal_stiffness = cement.shear_stiffness = normal_stiffness / (pi * r_mean * r_mean);  // Pa/m
+      cement.tensile_strength = cement.cohesion = 1e15;  // Pa: none breaks
+      const std::size_t bonds = lab::cement(world, cement, gap_ratio);
+      std::printf("bonds: %zu (%.3f per ball)\n", bonds, 2.0 * static_cast<double>(bonds) / static_cast<double>(ball_count));
+    }
     const double contacts_start = 2.0 * world.contact_count(ContactKind::BallBall) / ball_count;
     if (const long every = vm["report-every"].as<long>(); every > 0)
       world.add_callback(every, [&](World& w) {

@@ -131,6 +131,8 @@ struct ParallelBondLaw {
   }
   /// Shear strength at the bond's normal stress, Pa: c - (Fn / A) tan(phi), at least 0.
   static double shear_strength(const Params& p, const State& s) {
+    // phi = 0, the usual cement, skips tan(): c - (Fn / A) x 0 is c, the same bits (Fn is finite).
+    if (p.friction_angle == 0.0) return std::max(0.0, p.cohesion);
     return std::max(0.0, p.cohesion - s.normal_force / p.area() * std::tan(p.friction_angle));
   }
 
