@@ -29,6 +29,7 @@ DPI = 150
 CURVE_PX = (960, 720)      # 6.4 x 4.8 in
 SECTION_PX = (1200, 600)   # 8.0 x 4.0 in
 ROSE_PX = (900, 900)       # 6.0 x 6.0 in
+ROSE_PANEL_PX = (1800, 480)  # 12.0 x 3.2 in: one row, the one run with a fabric
 SCALE = 1.1                # run B = 1.1 x run A, so B differs from A by 10 %
 SCALED = ("shear_stress", "volumetric_strain", "sigma_1", "sigma_2", "sigma_3")
 SNAPSHOTS = (("strain_00.0", 0.0), ("strain_20.0", 0.2), ("strain_40.0", 0.4))
@@ -223,6 +224,7 @@ def expected_pngs(run_part, several_labels=False):
     for label, _ in FABRIC_STATES:
         figures[f"rose_force_{run_part}{label}.png"] = ROSE_PX
         figures[f"rose_number_{run_part}{label}.png"] = ROSE_PX
+    figures["roses.png"] = ROSE_PANEL_PX
     return figures
 
 
