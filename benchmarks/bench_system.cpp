@@ -72,11 +72,6 @@ HertzMindlinParams bench_hertz_params(const std::vector<BallSpec>& balls, double
   return p;
 }
 
-std::shared_ptr<const ContactModel> bench_hertz_law(const std::vector<BallSpec>& balls, double mu, double mu_r,
-                                                    HertzDamping damping, HertzRolling rolling) {
-  return make_contact_model<HertzMindlinLaw>(bench_hertz_params(balls, mu, mu_r, damping, rolling), "contact");
-}
-
 WallId add_cylinder_walls(World& world, double top_z, double side_top, int segments) {
   // Circumscribed polygon: its flat faces are tangent to the 35 mm circle, as the analytic wall.
   const double r_poly = cylinder_radius / std::cos(pi / segments);

@@ -41,9 +41,6 @@ std::shared_ptr<const ContactModel> bench_law(double gamma_n, double mu, double 
 HertzMindlinParams bench_hertz_params(const std::vector<BallSpec>& balls, double mu, double mu_r,
                                       HertzDamping damping = HertzDamping::liggghts,
                                       HertzRolling rolling = HertzRolling::epsd);
-std::shared_ptr<const ContactModel> bench_hertz_law(const std::vector<BallSpec>& balls, double mu, double mu_r,
-                                                    HertzDamping damping = HertzDamping::liggghts,
-                                                    HertzRolling rolling = HertzRolling::epsd);
 
 /// Side wall (a circumscribed polygon of `segments` facets, from z = -1 mm to side_top), bottom
 /// plane z = 0 and a top plane at top_z; returns the top wall's id.

@@ -121,8 +121,10 @@ int main(int argc, char** argv) {
       "rolling friction mu_r of either law (0: no rolling resistance; LAMMPS's rolling sds has no Hertz-scaled "
       "spring, so compare-peers runs the tsuji comparison without it)")(
       "rolling", po::value<std::string>()->default_value("epsd"),
-      "hertz-mindlin's rolling resistance: epsd (LIGGGHTS's epsd2 spring) or cdt (its constant directional torque), "
-      "the model compare-peers --law hertz gives LIGGGHTS")(
+      "hertz-mindlin's rolling resistance: epsd (LIGGGHTS's epsd2 spring), cdt (its constant directional torque) or "
+      "sds (LAMMPS's rolling sds spring of --rolling-stiffness), the model compare-peers --law hertz gives the peer")(
+      "rolling-stiffness", po::value<double>()->default_value(0.0),
+      "k_roll (N/m) of --rolling sds: the rolling spring k_roll R*^2")(
       "cement", po::value<double>()->default_value(0.0),
       "bond every pair of balls whose gap is below this x their mean radius (lab::cement) with linear parallel "
       "bonds too strong to break, their kn A the contacts' normal stiffness at the mean radius: the bonded step's "
@@ -174,11 +176,12 @@ int main(int argc, char** argv) {
       throw InputError("--damping-model = " + damping_name + ": only with --law hertz-mindlin (--law is " + law + ")");
     const HertzDamping damping = damping_name == "tsuji" ? HertzDamping::tsuji : HertzDamping::liggghts;
     const std::string rolling_name = vm["rolling"].as<std::string>();
-    if (rolling_name != "epsd" && rolling_name != "cdt")
-      throw InputError("--rolling = " + rolling_name + ": must be epsd or cdt");
+    if (rolling_name != "epsd" && rolling_name != "cdt" && rolling_name != "sds")
+      throw InputError("--rolling = " + rolling_name + ": must be epsd, cdt or sds");
     if (rolling_name != "epsd" && law != "hertz-mindlin")
       throw InputError("--rolling = " + rolling_name + ": only with --law hertz-mindlin (--law is " + law + ")");
-    const HertzRolling rolling = rolling_name == "cdt" ? HertzRolling::cdt : HertzRolling::epsd;
+    const HertzRolling rolling = rolling_name == "cdt" ? HertzRolling::cdt : rolling_name == "sds" ? HertzRolling::sds : HertzRolling::epsd;
+    const double rolling_stiffness = vm["rolling-stiffness"].as<double>();
     const double mu_r = vm["rolling-friction"].as<double>();
     if (!(mu_r >= 0.0)) throw InputError("--rolling-friction = " + std::to_string(mu_r) + ": must be >= 0");
     if (vm.count("describe")) {
@@ -190,11 +193,14 @@ int main(int argc, char** argv) {
                   friction, mu_r, density, input.header_value("recipe"), packing_recipe);
       if (law == "hertz-mindlin") {
         // The material the peers' Hertz laws take (compare-peers --law hertz), and what it derives to.
-        const HertzMindlinParams h = bench_hertz_params(balls, friction, mu_r, damping, rolling);
+        HertzMindlinParams h = bench_hertz_params(balls, friction, mu_r, damping, rolling);
+        h.rolling_stiffness = rolling_stiffness;
+        h.validate("--rolling-stiffness: the law");
         std::printf("law: hertz-mindlin\ndamping_model: %s\nrolling: %s\nyoungs_modulus_Pa: %.17g\npoissons_ratio: %.17g\n"
-                    "restitution: %.17g\neffective_modulus_Pa: %.17g\neffective_shear_modulus_Pa: %.17g\n",
+                    "restitution: %.17g\neffective_modulus_Pa: %.17g\neffective_shear_modulus_Pa: %.17g\n"
+                    "rolling_stiffness_N_per_m: %.17g\n",
                     to_string(h.damping_model), to_string(h.rolling), h.youngs_modulus, h.poissons_ratio, h.restitution,
-                    h.effective_modulus, h.effective_shear_modulus);
+                    h.effective_modulus, h.effective_shear_modulus, h.rolling_stiffness);
       }
       return 0;
     }
@@ -211,9 +217,14 @@ int main(int argc, char** argv) {
     // The input copy (96 B per ball) is the benchmark's, not the library's: drop it before the
     // peak RSS is reached (the first neighbour-list build).
     const std::size_t ball_count = balls.size();
-    const auto model = law == "rrlinear"
-                           ? bench_law(gamma_n, friction, mu_r)
-                           : bench_hertz_law(balls, friction, mu_r, damping, rolling);  // needs the packing
+    std::shared_ptr<const ContactModel> model;
+    if (law == "rrlinear") {
+      model = bench_law(gamma_n, friction, mu_r);
+    } else {
+      HertzMindlinParams h = bench_hertz_params(balls, friction, mu_r, damping, rolling);  // needs the packing
+      h.rolling_stiffness = rolling_stiffness;
+      model = make_contact_model<HertzMindlinLaw>(h, "--rolling-stiffness: the law");
+    }
     std::vector<BallSpec>().swap(balls);
     const std::string boundary = vm["boundary"].as<std::string>();
     if (boundary != "cylinder" && boundary != "analytic" && boundary != "rings" && boundary != "none")

@@ -113,10 +113,11 @@ TEST_CASE("hertz-dmt: the tension as the overlap vanishes is DMT's pull-off forc
 
 TEST_CASE("hertz-dmt: without surface energy it is Hertz-Mindlin, bit for bit", "[contact][physics][adhesion]") {
   for (HertzDamping model : {HertzDamping::liggghts, HertzDamping::tsuji}) {
-    for (HertzRolling rolling : {HertzRolling::epsd, HertzRolling::cdt}) {
+    for (HertzRolling rolling : {HertzRolling::epsd, HertzRolling::cdt, HertzRolling::sds}) {
       INFO(to_string(model) << ", rolling " << to_string(rolling));
       HertzDmtParams p = dmt(0.0, model);
       p.hertz.rolling = rolling;
+      if (rolling == HertzRolling::sds) p.hertz.rolling_stiffness = 50.0;  // N/m
       HertzDmtLaw::State dmt_state{};
       HertzMindlinLaw::State hm_state{};
       for (int step = 0; step < 50; ++step) {  // loading, sliding and rolling, the history carried over

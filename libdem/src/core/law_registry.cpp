@@ -100,9 +100,12 @@ std::vector<LawParameter> hertz_mindlin_parameters() {
        0.0, {}, {}, false, {"liggghts", "tsuji"}},
       {"rolling", "-",
        "rolling resistance model: epsd (spring k_t R*^2 capped at mu_r R* |F_n|, LIGGGHTS's epsd2), cdt (constant "
-       "torque mu_r R* F_ne against the relative spin, LIGGGHTS's cdt) or none (no rolling resistance, whatever "
-       "rolling_friction says)",
-       0.0, {}, {}, false, {"epsd", "cdt", "none"}},
+       "torque mu_r R* F_ne against the relative spin, LIGGGHTS's cdt), sds (spring rolling_stiffness R*^2 capped as "
+       "epsd, LAMMPS's rolling sds) or none (no rolling resistance, whatever rolling_friction says)",
+       0.0, {}, {}, false, {"epsd", "cdt", "none", "sds"}},
+      {"rolling_stiffness", "N/m",
+       "k_roll of rolling = sds: the rolling spring k_roll R*^2 (LAMMPS's rolling sds k_roll); 0 with the other models",
+       0.0, 0.0, 1e13},
   };
 }
 
@@ -116,10 +119,12 @@ HertzMindlinParams hertz_mindlin_params(const LawValues& v, const std::string& w
   p.friction = v.at("friction");
   p.rolling_friction = v.at("rolling_friction");
   p.damping_model = model == 1.0 ? HertzDamping::tsuji : HertzDamping::liggghts;
-  const double rolling = v.at("rolling");  // 0 epsd, 1 cdt, 2 none
-  require(rolling == 0.0 || rolling == 1.0 || rolling == 2.0, where + ".rolling", rolling, "epsd (0), cdt (1) or none (2)");
-  p.rolling = rolling == 1.0 ? HertzRolling::cdt : HertzRolling::epsd;
+  const double rolling = v.at("rolling");  // 0 epsd, 1 cdt, 2 none, 3 sds
+  require(rolling == 0.0 || rolling == 1.0 || rolling == 2.0 || rolling == 3.0, where + ".rolling", rolling,
+          "epsd (0), cdt (1), none (2) or sds (3)");
+  p.rolling = rolling == 1.0 ? HertzRolling::cdt : rolling == 3.0 ? HertzRolling::sds : HertzRolling::epsd;
   if (rolling == 2.0) p.rolling_friction = 0.0;
+  p.rolling_stiffness = v.at("rolling_stiffness");
   p.derive();  // a restitution out of range gives NaN constants here, refused by name in validate()
   return p;
 }

@@ -111,7 +111,7 @@ struct HertzDmtLaw {
     }
 
     // Rolling resistance as Hertz-Mindlin's, on the load pressing the surfaces together: epsd's
-    // spring capped at mu_r R* |F_n + 2 F_po|, or cdt's torque mu_r R* |F_ne + 2 F_po| (elastic, as
+    // (or sds's) spring capped at mu_r R* |F_n + 2 F_po|, or cdt's torque mu_r R* |F_ne + 2 F_po| (elastic, as
     // Hertz-Mindlin's cdt; the same bits as Hertz-Mindlin's without surface energy).
     const Lane3 bend_rate = k.relative_angular_velocity - dot(k.relative_angular_velocity, n) * n;
     Lane3 moment;
@@ -121,8 +121,9 @@ struct HertzDmtLaw {
                                                    k.relative_angular_velocity, bend_rate);
       state.rolling_moment = Lane3{};
     } else {
+      const double spring_stiffness = p.rolling == HertzRolling::sds ? p.rolling_stiffness : shear_stiffness;  // N/m
       moment = detail::rotate_into_plane(state.rolling_moment, n);
-      moment = moment - (shear_stiffness * k.effective_radius * k.effective_radius * k.dt) * bend_rate;
+      moment = moment - (spring_stiffness * k.effective_radius * k.effective_radius * k.dt) * bend_rate;
       moment = detail::cap_length(moment, p.rolling_friction * k.effective_radius * pressing);
       state.rolling_moment = moment;
     }

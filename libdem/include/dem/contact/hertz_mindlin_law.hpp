@@ -33,7 +33,7 @@
 // the set restitution exactly for a head-on impact; Tsuji's polynomial is a fit (within 0.6 %
 // over 0.1 <= e <= 0.9, docs/model.md 1.4).
 //
-// Rolling resistance (rolling_friction mu_r > 0), one of two models (`rolling`):
+// Rolling resistance (rolling_friction mu_r > 0), one of three models (`rolling`):
 //   epsd  the elastic-plastic spring of PFC's rrlinear and LIGGGHTS's epsd2, k_r = k_t R*^2
 //         (current k_t), on the bend part of the relative rotation, capped at mu_r R* |F_n|
 //         (epsd2's cap), the moment rotated into the contact plane as RollingLinearLaw's;
@@ -42,7 +42,9 @@
 //         takes w's direction and then drops the normal part), F_ne the elastic normal force
 //         (LIGGGHTS's kn deltan); zero while w is. No spring and no history: at rest it flips
 //         with w from step to step, as LIGGGHTS's does, and it adds no stiffness to the time-step
-//         estimate.
+//         estimate;
+//   sds   LAMMPS's `rolling sds k_roll 0 mu_r` (pair granular): epsd's spring and cap with a
+//         constant k_r = k_roll R*^2 (rolling_stiffness k_roll, N/m) instead of Hertz's current k_t.
 // A ball rolling on a plane slows at (5/7) mu_r g under either (a solid sphere: M_r / (R m 7/5)).
 // No rolling resistance: rolling_friction = 0 (the registry's `rolling = none` sets it so).
 //
@@ -55,7 +57,7 @@
 // The same arithmetic runs one contact at a time (force) and in the engine's SIMD blocks
 // (force_lanes): the same bits (contact/lanes.hpp). The damping model is a per-type constant
 // that selects by weights of 0 and 1, so one compiled loop serves both. The rolling model is a
-// lane variant: a type without cdt runs the loop it ran before cdt existed.
+// lane variant: a type with epsd runs the loop it ran before cdt and sds existed.
 #pragma once
 
 #include <cmath>
@@ -74,11 +76,13 @@ enum class HertzDamping : int { liggghts = 0, tsuji = 1 };
 
 inline const char* to_string(HertzDamping model) { return model == HertzDamping::tsuji ? "tsuji" : "liggghts"; }
 
-/// Hertz-Mindlin's rolling resistance model (when rolling_friction > 0): LIGGGHTS's epsd2 spring or
-/// its constant directional torque cdt.
-enum class HertzRolling : int { epsd = 0, cdt = 1 };
+/// Hertz-Mindlin's rolling resistance model (when rolling_friction > 0): LIGGGHTS's epsd2 spring,
+/// its constant directional torque cdt, or LAMMPS's spring of constant stiffness sds.
+enum class HertzRolling : int { epsd = 0, cdt = 1, sds = 2 };
 
-inline const char* to_string(HertzRolling model) { return model == HertzRolling::cdt ? "cdt" : "epsd"; }
+inline const char* to_string(HertzRolling model) {
+  return model == HertzRolling::cdt ? "cdt" : model == HertzRolling::sds ? "sds" : "epsd";
+}
 
 struct HertzMindlinParams {
   // The material, as LIGGGHTS users give it.
@@ -89,6 +93,7 @@ struct HertzMindlinParams {
   double rolling_friction = 0.0;  // -, mu_r (0: no rolling resistance)
   HertzDamping damping_model = HertzDamping::liggghts;
   HertzRolling rolling = HertzRolling::epsd;
+  double rolling_stiffness = 0.0;  // N/m, k_roll of sds: k_r = k_roll R*^2 (0 unless rolling = sds)
 
   // Derived by derive() (the force never takes a logarithm or a polynomial per contact).
   double effective_modulus = 0.0;        // Pa, E*
@@ -144,8 +149,13 @@ struct HertzMindlinParams {
     require_non_negative(where + ".rolling_friction", rolling_friction);
     require(damping_model == HertzDamping::liggghts || damping_model == HertzDamping::tsuji, where + ".damping_model",
             static_cast<int>(damping_model), "liggghts (0) or tsuji (1)");
-    require(rolling == HertzRolling::epsd || rolling == HertzRolling::cdt, where + ".rolling", static_cast<int>(rolling),
-            "epsd (0) or cdt (1)");
+    require(rolling == HertzRolling::epsd || rolling == HertzRolling::cdt || rolling == HertzRolling::sds,
+            where + ".rolling", static_cast<int>(rolling), "epsd (0), cdt (1) or sds (2)");
+    require_non_negative(where + ".rolling_stiffness", rolling_stiffness);
+    require(rolling == HertzRolling::sds || rolling_stiffness == 0.0, where + ".rolling_stiffness", rolling_stiffness,
+            "0 unless rolling = sds (the other models take no rolling stiffness)");
+    require(rolling != HertzRolling::sds || rolling_friction == 0.0 || rolling_stiffness > 0.0,
+            where + ".rolling_stiffness", rolling_stiffness, "> 0 N/m with rolling = sds and rolling_friction > 0");
     HertzMindlinParams fresh = *this;
     fresh.derive();
     require(fresh.effective_modulus == effective_modulus && fresh.effective_shear_modulus == effective_shear_modulus &&
@@ -197,16 +207,17 @@ struct HertzMindlinLaw {
     ContactStiffness s;
     s.normal = 2.0 * p.effective_modulus * a;
     s.shear = 8.0 * p.effective_shear_modulus * a;
-    s.rolling = p.rolling_friction > 0.0 && p.rolling == HertzRolling::epsd
-                    ? s.shear * k.effective_radius * k.effective_radius
-                    : 0.0;
+    const double rolling_spring = p.rolling == HertzRolling::epsd  ? s.shear
+                                  : p.rolling == HertzRolling::sds ? p.rolling_stiffness
+                                                                   : 0.0;
+    s.rolling = p.rolling_friction > 0.0 ? rolling_spring * k.effective_radius * k.effective_radius : 0.0;
     return s;
   }
 
-  /// Lane variants (lanes.hpp): 0 the epsd spring only (the loop of every type without cdt), 1
-  /// either model, the one of the parameters selected per contact (right for any parameters).
+  /// Lane variants (lanes.hpp): 0 the epsd spring only (the loop of every epsd type), 1 any
+  /// model, the one of the parameters selected per contact (right for any parameters).
   static constexpr int lane_variants = 2;
-  static int lane_variant(const Params& p) { return p.rolling == HertzRolling::cdt ? 1 : 0; }
+  static int lane_variant(const Params& p) { return p.rolling == HertzRolling::epsd ? 0 : 1; }
 
   template <int Variant = 1>
   DEM_HOT_INLINE static LaneForce force_lanes(const Params& p, const LaneKinematics& k, State& state) {
@@ -248,10 +259,13 @@ struct HertzMindlinLaw {
     const Lane3 xi_slipping = -inverse_stiffness * (slipping + p.damping_in_slip * damping_force);
     state.shear_displacement = detail::select_lanes(slip, xi_slipping, xi);
 
-    // Rolling resistance: epsd's k_r = k_t R*^2 on the bend rate, capped at mu_r R* |F_n|; or cdt.
+    // Rolling resistance: epsd's k_r = k_t R*^2 on the bend rate, capped at mu_r R* |F_n|; sds's
+    // k_r = k_roll R*^2 with the same cap; or cdt.
     const Lane3 bend_rate = k.relative_angular_velocity - dot(k.relative_angular_velocity, n) * n;
+    double spring_stiffness = shear_stiffness;  // N/m, epsd's
+    if constexpr (Variant == 1) spring_stiffness = p.rolling == HertzRolling::sds ? p.rolling_stiffness : shear_stiffness;
     Lane3 moment = detail::rotate_into_plane(state.rolling_moment, n);
-    moment = moment - (shear_stiffness * k.effective_radius * k.effective_radius * k.dt) * bend_rate;
+    moment = moment - (spring_stiffness * k.effective_radius * k.effective_radius * k.dt) * bend_rate;
     moment = detail::cap_length(moment, p.rolling_friction * k.effective_radius * std::abs(normal_total));
     if constexpr (Variant == 1) {
       const bool cdt = p.rolling == HertzRolling::cdt;
@@ -271,8 +285,8 @@ struct HertzMindlinLaw {
     out.normal_stiffness = 2.0 * p.effective_modulus * contact_radius;  // dF_ne / d delta
     return out;
   }
-  /// One contact at a time, in the parameters' variant (a type without cdt: the arithmetic it ran
-  /// before cdt existed).
+  /// One contact at a time, in the parameters' variant (an epsd type: the arithmetic it ran before
+  /// cdt and sds existed).
   DEM_HOT_INLINE static ContactForce force(const Params& p, const ContactKinematics& k, State& state) {
     return to_contact_force(lane_variant(p) == 1 ? force_lanes<1>(p, lane(k), state) : force_lanes<0>(p, lane(k), state));
   }

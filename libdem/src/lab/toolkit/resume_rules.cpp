@@ -53,6 +53,9 @@ const std::map<std::string, std::string>& values_before_keys() {
       {"ball_ball.rolling", "epsd"},  // Hertz-Mindlin's one rolling model before the key
       {"ball_facet.rolling", "epsd"},
       {"ball_pebble.rolling", "epsd"},
+      {"ball_ball.rolling_stiffness", "0"},  // sds's spring, added after cdt
+      {"ball_facet.rolling_stiffness", "0"},
+      {"ball_pebble.rolling_stiffness", "0"},
   };
   return values;
 }
