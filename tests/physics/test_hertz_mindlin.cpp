@@ -2,9 +2,10 @@
 // Ooi (2011, Granular Matter 13:643): head-on elastic impact of two equal spheres (their test 1)
 // and of a sphere on a flat wall (test 2) against Hertz's maximum overlap, maximum force and
 // duration; the restitution set against the one measured across its range, for both damping
-// models (test 3); an oblique impact in gross sliding against the rigid-body Coulomb result
-// (test 6's sliding regime). Then the SIMD blocks against one contact at a time, to the bit (either
-// rolling model), and the time-step estimate. The materials are the study's balls (0.5 mm, 2650 kg/m^3) with a
+// models (test 3); an oblique impact in gross sliding against the rigid-body Coulomb result (a
+// tangential speed without spin: test 5's setting, its sliding regime; tests 4, 5, 7 and 8 in full
+// are in test_hertz_oblique.cpp). Then the SIMD blocks against one contact at a time, to the bit
+// (either rolling model), and the time-step estimate. The materials are the study's balls (0.5 mm, 2650 kg/m^3) with a
 // quartz-like Young's modulus, not Chung & Ooi's own; their tests compare with theory, which holds
 // for any material.
 #include <catch2/catch.hpp>
