@@ -5,12 +5,13 @@
 // spinning so that their surfaces roll on each other (test 7: nothing tangential happens), and a
 // spinning sphere meeting a larger one (test 8: the contact point's tangential restitution).
 // Where the contact slides throughout (tangential speed of the contact point above
-// 7/2 mu (1 + e) v_n for solid spheres), the rigid-body Coulomb result is exact: the tangential
-// impulse is mu times the normal one. Below that, in Mindlin's sticking and micro-slip regime, the
-// reference is the same model integrated here apart from the engine (its own kinematics and
-// equations of motion, RK4 at a step 100 times the engine's): that checks the implementation
-// against the model; Chung & Ooi's figures there show the contact point's velocity reversed by
-// the tangential spring, which is checked too. Materials: the study's balls (0.5 mm, 2650 kg/m^3)
+// 7/2 mu (1 + e) v_n for solid spheres), the rigid-body Coulomb result holds: the tangential
+// impulse is mu times the normal one (to the arm R - delta/2 of the engine's contact point, and
+// for elastic or lightly damped impacts: see test 8). Below that, in Mindlin's sticking and
+// micro-slip regime, the reference is the same model integrated here apart from the engine (its
+// own kinematics and equations of motion, RK4 at a step 100 times shorter than the engine's): that
+// checks the implementation against the model; Chung & Ooi's figures there show the contact
+// point's velocity reversed by the tangential spring, which is checked too. Materials: the study's balls (0.5 mm, 2650 kg/m^3)
 // with a 70 GPa Young's modulus and Chung & Ooi's Poisson's ratio, friction and restitution per
 // test; their results are dimensionless and hold for any size and stiffness.
 #include <catch2/catch.hpp>
