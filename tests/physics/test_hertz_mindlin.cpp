@@ -2,91 +2,24 @@
 // Ooi (2011, Granular Matter 13:643): head-on elastic impact of two equal spheres (their test 1)
 // and of a sphere on a flat wall (test 2) against Hertz's maximum overlap, maximum force and
 // duration; the restitution set against the one measured across its range, for both damping
-// models (test 3); an oblique impact in gross sliding against the rigid-body Coulomb result
-// (test 6's sliding regime). Then the SIMD blocks against one contact at a time, to the bit (either
-// rolling model), and the time-step estimate. The materials are the study's balls (0.5 mm, 2650 kg/m^3) with a
+// models (test 3); an oblique impact in gross sliding against the rigid-body Coulomb result (a
+// tangential speed without spin: test 5's setting, its sliding regime; tests 4, 5, 7 and 8 in full
+// are in test_hertz_oblique.cpp). Then the SIMD blocks against one contact at a time, to the bit
+// (either rolling model), and the time-step estimate. The materials are the study's balls (0.5 mm, 2650 kg/m^3) with a
 // quartz-like Young's modulus, not Chung & Ooi's own; their tests compare with theory, which holds
 // for any material.
 #include <catch2/catch.hpp>
 
 #include <cmath>
 
+#include "support/hertz_impacts.hpp"
 #include "support/isa_scope.hpp"
-#include "support/scenes.hpp"
 
 using namespace dem;
 using namespace dem::testing;
+using namespace dem::testing::hertz_impacts;
 
 namespace {
-
-constexpr double youngs = 7e10;  // Pa
-constexpr double poisson = 0.25;
-constexpr double effective_modulus = youngs / (2.0 * (1.0 - poisson * poisson));  // E* = 3.7333e10 Pa
-// 2 * integral_0^1 dx / sqrt(1 - x^(5/2)): Hertz's duration in units of delta_max / v0 [Johnson
-// 1985, 11.2], numerically to 10 digits; 2.8683 (m*^2 / (R* E*^2 v0))^(1/5) is the same to 4.
-constexpr double hertz_duration_factor = 2.943275184;
-
-struct Impact {
-  double contact_time = 0.0;  // s, steps with a positive elastic normal force, times dt
-  double max_overlap = 0.0;   // m
-  double max_force = 0.0;     // N, elastic normal force
-  Vec3 velocity{Vec3::Zero()};          // m/s, after the impact: of ball 1 relative to ball 0, or of the ball on the wall
-  Vec3 angular_velocity{Vec3::Zero()};  // rad/s, of the ball on the wall
-};
-
-/// Hertz's maximum overlap of an elastic impact at speed v0 (m* v0^2 / 2 = 8/15 E* sqrt(R*) delta^2.5).
-double hertz_max_overlap(double m_eff, double r_eff, double v0) {
-  return std::pow(15.0 * m_eff * v0 * v0 / (16.0 * effective_modulus * std::sqrt(r_eff)), 0.4);
-}
-
-/// Two equal balls meeting head-on at relative speed v0, with the law `p` between them.
-Impact two_spheres(const HertzMindlinParams& p, double v0, double dt) {
-  World world(dynamic_settings(dt));
-  world.add_ball(ball_at(Vec3::Zero(), Vec3(0.5 * v0, 0, 0)));
-  world.add_ball(ball_at(Vec3(2 * radius + 2 * v0 * dt, 0, 0), Vec3(-0.5 * v0, 0, 0)));
-  world.set_contact_model(ContactKind::BallBall, make_contact_model<HertzMindlinLaw>(p, "ball-ball"));
-  Impact r;
-  bool touched = false;
-  for (int s = 0; s < 1000000; ++s) {
-    world.step();
-    const PairContacts& c = world.pair_contacts(ContactKind::BallBall);
-    const bool touching = c.size() == 1 && c.normal_force[0] > 0.0;
-    if (!touching && touched) break;
-    if (!touching) continue;
-    touched = true;
-    r.contact_time += dt;
-    r.max_force = std::max(r.max_force, c.normal_force[0]);
-    const ParticleStore& b = world.particles();
-    r.max_overlap = std::max(r.max_overlap, 2 * radius - (b.x[1] - b.x[0]).norm());
-  }
-  const ParticleStore& b = world.particles();
-  r.velocity = b.v[b.index_of(1)] - b.v[b.index_of(0)];
-  return r;
-}
-
-/// A ball falling onto a facet floor at velocity `v` (no gravity), the law `p` between them.
-Impact sphere_on_wall(const HertzMindlinParams& p, const Vec3& v, double dt) {
-  World world(dynamic_settings(dt));
-  world.add_ball(ball_at(Vec3(0, 0, radius - 2 * v.z() * dt), v));
-  world.add_wall(floor_wall(0.0, 0.01));
-  world.set_contact_model(ContactKind::BallFacet, make_contact_model<HertzMindlinLaw>(p, "ball-facet"));
-  Impact r;
-  bool touched = false;
-  for (int s = 0; s < 1000000; ++s) {
-    world.step();
-    const WallContacts& c = world.state().contacts.ball_facet;
-    const bool touching = c.size() == 1 && c.normal_force[0] > 0.0;
-    if (!touching && touched) break;
-    if (!touching) continue;
-    touched = true;
-    r.contact_time += dt;
-    r.max_force = std::max(r.max_force, c.normal_force[0]);
-    r.max_overlap = std::max(r.max_overlap, radius - world.particles().x[0].z());
-  }
-  r.velocity = world.particles().v[0];
-  r.angular_velocity = world.particles().w[0];
-  return r;
-}
 
 void check_against_hertz(const Impact& r, double m_eff, double r_eff, double v0, double dt) {
   const double overlap = hertz_max_overlap(m_eff, r_eff, v0);
