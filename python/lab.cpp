@@ -63,6 +63,17 @@ py::dict columns(const std::vector<std::string>& names, const std::vector<std::v
   return d;
 }
 
+/// Runs `f` (a stage of a test) with the GIL released, its progress lines going to `log`.
+template <class F>
+void released(ProgressStream& log, F f) {
+  log.stream();  // ready again if an exception stopped the last stage
+  {
+    py::gil_scoped_release release;
+    f();
+  }
+  log.finish();
+}
+
 struct SimpleShear {
   io::Config config;
   ProgressStream log;
@@ -72,15 +83,6 @@ struct SimpleShear {
       : config(configuration(lab::simple_shear_schema(), preset, values)), log(progress, quiet, "SimpleShear") {
     test = std::make_unique<lab::SimpleShearTest>(lab::simple_shear_config(config), out, log.stream());
     test->record_configuration(config);
-  }
-  template <class F>
-  void released(F f) {
-    log.stream();  // ready again if an exception stopped the last stage
-    {
-      py::gil_scoped_release release;
-      f();
-    }
-    log.finish();
   }
 };
 
@@ -148,13 +150,13 @@ void bind_lab(py::module_& m) {
            "Continues from a restart file, anywhere in the generation, consolidation or shear; once, before any stage.\n\n"
            "Args:\n"
            "    file: a .restart file of dem-simple-shear or of this class (keys that would change what is done are refused).")
-      .def("generate", [](SimpleShear& s) { s.released([&] { s.test->generate(); }); },
+      .def("generate", [](SimpleShear& s) { released(s.log, [&] { s.test->generate(); }); },
            "Makes the specimen: radius expansion in the ring stack, then the friction schedule (docs/model.md 7).")
-      .def("consolidate", [](SimpleShear& s) { s.released([&] { s.test->consolidate(); }); },
+      .def("consolidate", [](SimpleShear& s) { released(s.log, [&] { s.test->consolidate(); }); },
            "Servo consolidation to the vertical stress, until stress and kinetic energy have settled.")
-      .def("shear", [](SimpleShear& s) { s.released([&] { s.test->shear(); }); },
+      .def("shear", [](SimpleShear& s) { released(s.log, [&] { s.test->shear(); }); },
            "All shear legs, with history, fabric, snapshots and restart files in the output folder.")
-      .def("run", [](SimpleShear& s) { s.released([&] { s.test->run(); }); }, "Whatever remains of generate, consolidate and shear")
+      .def("run", [](SimpleShear& s) { released(s.log, [&] { s.test->run(); }); }, "Whatever remains of generate, consolidate and shear")
       .def("write_summary", [](SimpleShear& s) { s.test->write_summary(s.config.to_json()); },
            "Writes summary.json: counts, porosity, ASTM D6528 ratios, peak and final values, timing, the configuration.")
       .def("history", [](SimpleShear& s) {
@@ -186,14 +188,7 @@ void bind_lab(py::module_& m) {
            "        taking each line (str). Ctrl-C, or an exception the callable raises, stops the run at a line.\n\n"
            "Raises:\n"
            "    ValueError: an unknown key or a bad value, named with what is allowed.")
-      .def("run", [](CyclicShear& c) {
-             c.log.stream();  // ready again if an exception stopped the last run
-             {
-               py::gil_scoped_release release;
-               c.test->run();
-             }
-             c.log.finish();
-           }, "The static, cyclic and post-cyclic stages with their outputs, then final.restart.")
+      .def("run", [](CyclicShear& c) { released(c.log, [&] { c.test->run(); }); }, "The static, cyclic and post-cyclic stages with their outputs, then final.restart.")
       .def("write_summary", [](CyclicShear& c) { c.test->write_summary(c.config.to_json()); },
            "Writes summary.json: the specimen, the cyclic settings, the outcome, timing and the configuration.")
       .def("history", [](const CyclicShear& c) { return columns(c.test->history().columns(), c.test->history().rows()); },
@@ -243,14 +238,7 @@ void bind_lab(py::module_& m) {
            "Continues from a restart file of this test, in any stage; once, before run().\n\n"
            "Args:\n"
            "    file: a .restart file of dem-element-test or of this class (keys that would change what is done are refused).")
-      .def("run", [](ElementTest& e) {
-             e.log.stream();  // ready again if an exception stopped the last run
-             {
-               py::gil_scoped_release release;
-               e.test->run();
-             }
-             e.log.finish();
-           }, "Whatever remains of the compaction and the test's path, with its outputs, then final.restart.")
+      .def("run", [](ElementTest& e) { released(e.log, [&] { e.test->run(); }); }, "Whatever remains of the compaction and the test's path, with its outputs, then final.restart.")
       .def("write_summary", [](ElementTest& e) { e.test->write_summary(e.config.to_json()); },
            "Writes summary.json: the specimen, the peak and the end (q/p, void ratio, coordination), timing, the configuration.")
       .def("history", [](const ElementTest& e) {

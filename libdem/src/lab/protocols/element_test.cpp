@@ -177,9 +177,11 @@ void ElementTest::set_path() {
       if (drained && config_.element.cyclic_control == CyclicControl::Strain) {
         // sigma_zz held, so L_zz != 0 and dF_xz = dt L_xz F_zz: the rate that lands F_xz (F_yz) on
         // the path at t + dt from where it is, so the height's change does not drift it off.
-        const auto rate_to = [this, dt](int column) {
-          return [this, dt, column](double t) {
-            const Mat3 f = run_.world().periodic_cell()->matrix() * reference().inverse();
+        // The reference cell is fixed once loading starts (set_path runs after it is set or restored).
+        const Mat3 from_reference = reference().inverse();
+        const auto rate_to = [this, dt, from_reference](int column) {
+          return [this, dt, column, from_reference](double t) {
+            const Mat3 f = run_.world().periodic_cell()->matrix() * from_reference;
             return (cyclic_target(t + dt)[column] - f(column, 2)) / (dt * f(2, 2));
           };
         };
