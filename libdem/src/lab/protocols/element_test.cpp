@@ -24,8 +24,8 @@ namespace dem::lab {
 namespace {
 
 constexpr std::int64_t loading_chunk_steps = 10;  // steps between tests of the row and end strains
-constexpr int profile_bins = 12;
-constexpr double span_from = 0.2;  // the simple shears' uniformity over the NGI cell's span, from 20 % to the end  // height bins of the simple shears' displacement profile (as the NGI cell's)
+constexpr int profile_bins = 12;    // height bins of the simple shears' displacement profile (as the NGI cell's)
+constexpr double span_from = 0.2;  // the simple shears' uniformity over the NGI cell's span, from 20 % to the end
 
 PeriodicSpecimenSettings specimen_settings(const ElementTestConfig& c) {
   const ElementConfig& e = c.element;
@@ -225,6 +225,16 @@ void ElementTest::load_restart(const std::filesystem::path& file) {
 }
 
 void ElementTest::record_row() {
+  const ElementTestKind kind = config_.element.test;
+  if (kind == ElementTestKind::SimpleShear || kind == ElementTestKind::SimpleShearUndrained) {
+    // R^2 of the displacement profile since the last row against uniform shear; each row starts
+    // the next interval (kept in the restart files, so a resumed run measures the same).
+    const World& w = run_.world();
+    profile_r2_ = stage_ == Stage::Loading ? periodic_profile_r2(w, profile_start_, profile_bins) : std::nan("");
+    profile_start_ = periodic_interval(w);
+    if (stage_ == Stage::Loading && span_start_.reduced.empty() && test_strain() >= span_from - 1e-12)
+      span_start_ = profile_start_, span_from_strain_ = test_strain();
+  }
   history_.record();
   const double strain = test_strain();
   while (next_row_strain_ <= strain + 1e-12) next_row_strain_ += row_spacing();
@@ -345,15 +355,7 @@ void ElementTest::add_columns() {
   h.add("unbalanced_force_ratio", [&w] { return w.unbalanced_force_ratio(); });
   const ElementTestKind kind = config_.element.test;
   if (kind == ElementTestKind::SimpleShear || kind == ElementTestKind::SimpleShearUndrained) {  // the others' columns stay
-    // R^2 of the displacement profile since the last row against uniform shear; each row starts
-    // the next interval (kept in the restart files, so a resumed run measures the same).
-    h.add("profile_r2", [this, &w] {
-      const double r2 = stage_ == Stage::Loading ? periodic_profile_r2(w, profile_start_, profile_bins) : std::nan("");
-      profile_start_ = periodic_interval(w);
-      if (stage_ == Stage::Loading && span_start_.reduced.empty() && test_strain() >= span_from - 1e-12)
-        span_start_ = profile_start_, span_from_strain_ = test_strain();
-      return r2;
-    });
+    h.add("profile_r2", [this] { return profile_r2_; });  // measured by record_row()
     for (auto [name, interval] : {std::pair{"profile", &profile_start_}, std::pair{"span", &span_start_}}) {
       run_.keep_points(std::string(name) + "_reference", interval->reduced);
       for (int k = 0; k < 9; ++k) run_.keep(std::string(name) + "_cell_" + std::to_string(k), interval->cell(k / 3, k % 3));

@@ -157,6 +157,7 @@ class ElementTest {
   double peak_ratio_ = 0.0, peak_strain_ = 0.0;  // q/p (|tau|/sigma_zz in simple shear), the test's strain
   CyclicPath cyclic_path_{CyclicShape::Sine, 0.0, 0.0};  // element.cyclic_path, read once (a series from its file)
   PeriodicInterval profile_start_;  // the simple shears' profile: where the balls were at the last row
+  double profile_r2_ = 0.0;         // its R^2 over the interval that ended at the row being recorded
   PeriodicInterval span_start_;     // ... and at the first row at 20 % shear strain (the NGI cell's span)
   double span_from_strain_ = 0.0;   // -, the shear strain of that row
 };
