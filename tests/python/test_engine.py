@@ -230,7 +230,7 @@ def test_contact_laws_by_keyword():
     with pytest.raises(ValueError, match="ball_ball.damping_model = hooke.*liggghts, tsuji"):
         world.set_contact_law(libdem.ContactKind.BALL_BALL, "hertz-mindlin", {"damping_model": "hooke"}, "ball_ball")
     # and its rolling resistance model: LIGGGHTS's epsd2 spring, its constant directional torque, or none
-    assert laws["hertz-mindlin"]["parameters"]["rolling"]["choices"] == ["epsd", "cdt", "none"]
+    assert laws["hertz-mindlin"]["parameters"]["rolling"]["choices"] == ["epsd", "cdt", "none", "sds"]
     world.set_contact_law(libdem.ContactKind.BALL_BALL, "hertz-mindlin", {"rolling_friction": 0.1, "rolling": "cdt"},
                           "ball_ball")
     with pytest.raises(ValueError, match="ball_ball.rolling = bogus.*epsd, cdt, none"):
