@@ -1,6 +1,6 @@
 // Single impacts under the Hertz-Mindlin law (docs/model.md 1.4), shared by the tests that check
 // it against Chung & Ooi's (2011) benchmarks: tests/physics/test_hertz_mindlin.cpp (tests 1-3,
-// the time step, the SIMD blocks) and tests/physics/test_hertz_oblique.cpp (tests 4, 5, 7, 8).
+// the time step, the SIMD blocks) and tests/physics/test_hertz_oblique.cpp (tests 4-8).
 #pragma once
 
 #include <algorithm>
@@ -61,10 +61,13 @@ inline Impact two_spheres(const HertzMindlinParams& p, double v0, double dt) {
   return r;
 }
 
-/// A ball falling onto a facet floor at velocity `v` (no gravity), the law `p` between them.
-inline Impact sphere_on_wall(const HertzMindlinParams& p, const Vec3& v, double dt) {
+/// A ball falling onto a facet floor at velocity `v` (no gravity) spinning at `w`, the law `p`
+/// between them.
+inline Impact sphere_on_wall(const HertzMindlinParams& p, const Vec3& v, double dt, const Vec3& w = Vec3::Zero()) {
   World world(dynamic_settings(dt));
-  world.add_ball(ball_at(Vec3(0, 0, radius - 2 * v.z() * dt), v));
+  BallSpec ball = ball_at(Vec3(0, 0, radius - 2 * v.z() * dt), v);
+  ball.angular_velocity = w;
+  world.add_ball(ball);
   world.add_wall(floor_wall(0.0, 0.01));
   world.set_contact_model(ContactKind::BallFacet, make_contact_model<HertzMindlinLaw>(p, "ball-facet"));
   Impact r;
