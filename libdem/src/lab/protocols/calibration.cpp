@@ -1,6 +1,6 @@
 // Calibration: the staged searches and their bookkeeping. Its keys are in calibration_config.cpp,
 // the specimen and its shears in calibration_trials.cpp, the searches themselves in
-// calibration_search.cpp, the comparison and the output files in calibration_outputs.cpp;
+// calibration_search.cpp, trials.csv's rows in calibration_trial_rows.cpp, the comparison and the output files in calibration_outputs.cpp;
 // dem-calibrate's command line is in apps/cli/.
 #include <dem/lab/protocols/calibration.hpp>
 
@@ -19,6 +19,8 @@
 #include <dem/core/errors.hpp>
 #include <dem/io/atomic_file.hpp>
 #include <dem/io/csv.hpp>
+
+#include "calibration_trial_rows.hpp"
 
 namespace fs = std::filesystem;
 
@@ -49,97 +51,6 @@ std::string file_hash(const fs::path& file) {
   std::ostringstream out;
   out << std::hex << std::setw(16) << std::setfill('0') << h;
   return out.str();
-}
-
-// The columns of trials.csv, each declared once with the field it holds: the writer prints them in
-// this order, the reader finds each by its name.
-struct TrialColumn {
-  const char* name;
-  double (*get)(const TrialResult&);
-  void (*set)(TrialResult&, double);
-};
-#define DEM_TRIAL_COLUMN(name, field, type) \
-  TrialColumn{name, [](const TrialResult& t) { return static_cast<double>(t.field); }, [](TrialResult& t, double v) { t.field = static_cast<type>(v); }}
-const TrialColumn trial_columns[] = {
-    DEM_TRIAL_COLUMN("trial", trial, int),
-    DEM_TRIAL_COLUMN("stage", stage, int),
-    DEM_TRIAL_COLUMN("modulus", fit.modulus, double),  // named by the law's key in files (trial_column_names)
-    DEM_TRIAL_COLUMN("friction", fit.friction, double),
-    DEM_TRIAL_COLUMN("rolling_friction", fit.rolling_friction, double),
-    DEM_TRIAL_COLUMN("shear_stress_rd_max_percent", stress_rd_max, double),
-    DEM_TRIAL_COLUMN("shear_stress_rd_mean_percent", stress_rd_mean, double),
-    DEM_TRIAL_COLUMN("volumetric_strain_rd_max_percent", volumetric_rd_max, double),
-    DEM_TRIAL_COLUMN("volumetric_strain_rd_mean_percent", volumetric_rd_mean, double),
-    DEM_TRIAL_COLUMN("shear_stress_points_used", stress_points_used, double),
-    DEM_TRIAL_COLUMN("shear_stress_points_skipped", stress_points_skipped, double),
-    DEM_TRIAL_COLUMN("volumetric_strain_points_used", volumetric_points_used, double),
-    DEM_TRIAL_COLUMN("volumetric_strain_points_skipped", volumetric_points_skipped, double),
-    DEM_TRIAL_COLUMN("model_initial_slope_Pa", model_slope, double),
-    DEM_TRIAL_COLUMN("model_peak_shear_stress_Pa", model_peak, double),
-    DEM_TRIAL_COLUMN("model_late_dilatancy", model_dilatancy, double),
-    DEM_TRIAL_COLUMN("seconds", seconds, double),
-};
-#undef DEM_TRIAL_COLUMN
-
-// Trials as the bytes of their columns' doubles, one after another, to carry them between
-// processes bit for bit.
-std::string trials_bytes(const std::vector<TrialResult>& trials) {
-  std::string bytes;
-  for (const TrialResult& t : trials)
-    for (const TrialColumn& c : trial_columns) {
-      const double v = c.get(t);
-      bytes.append(reinterpret_cast<const char*>(&v), sizeof v);
-    }
-  return bytes;
-}
-
-std::vector<TrialResult> trials_from_bytes(const std::string& bytes) {
-  constexpr std::size_t row_bytes = std::size(trial_columns) * sizeof(double);
-  if (bytes.size() % row_bytes != 0)
-    throw std::runtime_error("trial results arrived with " + std::to_string(bytes.size()) + " bytes, not a multiple of " +
-                             std::to_string(row_bytes));
-  std::vector<TrialResult> trials(bytes.size() / row_bytes);
-  for (std::size_t r = 0; r < trials.size(); ++r)
-    for (std::size_t k = 0; k < std::size(trial_columns); ++k) {
-      double v = 0;
-      std::memcpy(&v, bytes.data() + r * row_bytes + k * sizeof v, sizeof v);
-      trial_columns[k].set(trials[r], v);
-    }
-  return trials;
-}
-
-// The columns' names in trials.csv: the modulus under the law's own key (effective_modulus, the
-// only one before other laws could be fitted, or youngs_modulus).
-std::vector<std::string> trial_column_names(const std::string& modulus_key) {
-  std::vector<std::string> names;
-  for (const TrialColumn& c : trial_columns) names.push_back(std::string(c.name) == "modulus" ? modulus_key : c.name);
-  return names;
-}
-
-// Rows of trials.csv (or of a trial folder's result.csv), each column found by its name.
-std::vector<TrialResult> read_trial_rows(const fs::path& file, const std::string& modulus_key) {
-  const io::CsvData data = io::read_csv(file);
-  std::vector<std::size_t> index;
-  for (const std::string& name : trial_column_names(modulus_key)) index.push_back(data.column(name));  // InputError names a missing one
-  require(data.columns.size() == index.size(), file.string() + " columns", data.columns.size(),
-          std::to_string(index.size()) + ", the columns dem-calibrate writes (no others)");
-  std::vector<TrialResult> rows;
-  for (const auto& row : data.rows) {
-    TrialResult t;
-    for (std::size_t k = 0; k < index.size(); ++k) trial_columns[k].set(t, row[index[k]]);
-    rows.push_back(t);
-  }
-  return rows;
-}
-
-void write_trial_rows(const fs::path& file, const std::vector<TrialResult>& rows, const std::string& modulus_key) {
-  io::CsvTable table(trial_column_names(modulus_key));
-  for (const TrialResult& t : rows) {
-    std::vector<double> row;
-    for (const TrialColumn& c : trial_columns) row.push_back(c.get(t));
-    table.add_row(row);
-  }
-  table.save(file);
 }
 
 const char* const stage_names[] = {"outside the searches", "1 (modulus, initial slope)", "2 (mu, peak)", "3 (mu_r, peak or dilatancy)",
@@ -236,9 +147,9 @@ Calibration::Calibration(io::Config config, CalibrationSettings settings, LabCur
     claim_folder(setup);
     const bool resuming = fs::exists(out_dir_ / "trials.csv");
     if (resuming) load_trials();
-    return (resuming ? "R" : "-") + trials_bytes(trials_);
+    return (resuming ? "R" : "-") + detail::trials_bytes(trials_);
   });
-  if (!farm_->leads()) trials_ = trials_from_bytes(finished.substr(1));
+  if (!farm_->leads()) trials_ = detail::trials_from_bytes(finished.substr(1));
   if (finished.front() == 'R')
     log_ << "resuming: " << trials_.size() << " finished trial(s) in " << (out_dir_ / "trials.csv").string() << "\n";
   shears_ = std::make_unique<ShearTrials>(std::move(shear), out_dir_, from, settings_.fit_modulus, log_, settings_.modulus_specimen, farm_);
@@ -302,11 +213,11 @@ std::string Calibration::setup_text() const {
 }
 
 void Calibration::load_trials() {
-  trials_ = read_trial_rows(out_dir_ / "trials.csv", modulus_key_);
+  trials_ = detail::read_trial_rows(out_dir_ / "trials.csv", modulus_key_);
   std::sort(trials_.begin(), trials_.end(), [](const TrialResult& a, const TrialResult& b) { return a.trial < b.trial; });
 }
 
-void Calibration::save_trials() const { write_trial_rows(out_dir_ / "trials.csv", trials_, modulus_key_); }
+void Calibration::save_trials() const { detail::write_trial_rows(out_dir_ / "trials.csv", trials_, modulus_key_); }
 
 TrialResult Calibration::measure(const ContactFit& fit, const ModelCurve& model, int number, int stage, double seconds) const {
   const CurveComparison c = compare_curves(lab_, model, settings_.comparison);
@@ -388,15 +299,15 @@ std::vector<TrialResult> Calibration::evaluate(const std::vector<ContactFit>& ba
   };
   // A trial finished by a run that stopped before trials.csv got it (over MPI, a round's trials
   // reach it together) left its result in its folder: the leading process finds those.
-  const std::vector<TrialResult> left_over = trials_from_bytes(farm_->on_leader([&] {
+  const std::vector<TrialResult> left_over = detail::trials_from_bytes(farm_->on_leader([&] {
     std::vector<TrialResult> found;
     for (std::size_t i : todo) {
       const fs::path file = shears_->trial_dir(numbers[i]) / "result.csv";
       if (!fs::exists(file)) continue;
-      const std::vector<TrialResult> rows = read_trial_rows(file, modulus_key_);
+      const std::vector<TrialResult> rows = detail::read_trial_rows(file, modulus_key_);
       if (rows.size() == 1 && rows[0].trial == numbers[i] && rows[0].fit == batch[i]) found.push_back(rows[0]);
     }
-    return trials_bytes(found);
+    return detail::trials_bytes(found);
   }));
   for (const TrialResult& t : left_over) {
     const auto i = std::find_if(todo.begin(), todo.end(), [&](std::size_t j) { return numbers[j] == t.trial; });
@@ -428,11 +339,11 @@ std::vector<TrialResult> Calibration::evaluate(const std::vector<ContactFit>& ba
           throw std::runtime_error("trial " + std::to_string(numbers[i]) + " (" + describe(batch[i], modulus_symbol_) + "): " + e.what());
         }
         const TrialResult t = measure(batch[i], model, numbers[i], stage, seconds_since(t0) + prepare_seconds[k]);
-        write_trial_rows(shears_->trial_dir(numbers[i]) / "result.csv", {t}, modulus_key_);
-        return trials_bytes({t});
+        detail::write_trial_rows(shears_->trial_dir(numbers[i]) / "result.csv", {t}, modulus_key_);
+        return detail::trials_bytes({t});
       },
       [&](std::size_t k, const std::string& bytes) {
-        const TrialResult t = trials_from_bytes(bytes).at(0);
+        const TrialResult t = detail::trials_from_bytes(bytes).at(0);
         keep(t);
         ++p.new_trials;
         p.new_seconds += t.seconds;
