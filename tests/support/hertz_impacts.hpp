@@ -36,6 +36,30 @@ inline double hertz_duration(double m_eff, double r_eff, double v0, double modul
   return hertz_duration_factor * hertz_max_overlap(m_eff, r_eff, v0, modulus) / v0;
 }
 
+/// Steps `world` through one impact: until the one contact whose elastic normal force
+/// `normal_force(world)` reads (N; 0 when there is none) has been on and is off again, calling
+/// `on_contact(force)` after each step it is on.
+template <class NormalForce, class OnContact>
+void step_through_impact(World& world, NormalForce normal_force, OnContact on_contact) {
+  bool touched = false;
+  for (int s = 0; s < 1000000; ++s) {
+    world.step();
+    const double force = normal_force(world);
+    if (!(force > 0.0)) {
+      if (touched) return;
+      continue;
+    }
+    touched = true;
+    on_contact(force);
+  }
+}
+
+/// The elastic normal force of a World's one ball-ball contact (0: none).
+inline double pair_force(const World& world) {
+  const PairContacts& c = world.pair_contacts(ContactKind::BallBall);
+  return c.size() == 1 ? c.normal_force[0] : 0.0;
+}
+
 /// Two equal balls meeting head-on at relative speed v0, with the law `p` between them.
 inline Impact two_spheres(const HertzMindlinParams& p, double v0, double dt) {
   World world(dynamic_settings(dt));
@@ -43,19 +67,12 @@ inline Impact two_spheres(const HertzMindlinParams& p, double v0, double dt) {
   world.add_ball(ball_at(Vec3(2 * radius + 2 * v0 * dt, 0, 0), Vec3(-0.5 * v0, 0, 0)));
   world.set_contact_model(ContactKind::BallBall, make_contact_model<HertzMindlinLaw>(p, "ball-ball"));
   Impact r;
-  bool touched = false;
-  for (int s = 0; s < 1000000; ++s) {
-    world.step();
-    const PairContacts& c = world.pair_contacts(ContactKind::BallBall);
-    const bool touching = c.size() == 1 && c.normal_force[0] > 0.0;
-    if (!touching && touched) break;
-    if (!touching) continue;
-    touched = true;
+  step_through_impact(world, pair_force, [&](double force) {
     r.contact_time += dt;
-    r.max_force = std::max(r.max_force, c.normal_force[0]);
+    r.max_force = std::max(r.max_force, force);
     const ParticleStore& b = world.particles();
     r.max_overlap = std::max(r.max_overlap, 2 * radius - (b.x[1] - b.x[0]).norm());
-  }
+  });
   const ParticleStore& b = world.particles();
   r.velocity = b.v[b.index_of(1)] - b.v[b.index_of(0)];
   return r;
@@ -71,18 +88,15 @@ inline Impact sphere_on_wall(const HertzMindlinParams& p, const Vec3& v, double 
   world.add_wall(floor_wall(0.0, 0.01));
   world.set_contact_model(ContactKind::BallFacet, make_contact_model<HertzMindlinLaw>(p, "ball-facet"));
   Impact r;
-  bool touched = false;
-  for (int s = 0; s < 1000000; ++s) {
-    world.step();
-    const WallContacts& c = world.state().contacts.ball_facet;
-    const bool touching = c.size() == 1 && c.normal_force[0] > 0.0;
-    if (!touching && touched) break;
-    if (!touching) continue;
-    touched = true;
+  const auto wall_force = [](const World& stepped) {
+    const WallContacts& c = stepped.state().contacts.ball_facet;
+    return c.size() == 1 ? c.normal_force[0] : 0.0;
+  };
+  step_through_impact(world, wall_force, [&](double force) {
     r.contact_time += dt;
-    r.max_force = std::max(r.max_force, c.normal_force[0]);
+    r.max_force = std::max(r.max_force, force);
     r.max_overlap = std::max(r.max_overlap, radius - world.particles().x[0].z());
-  }
+  });
   r.velocity = world.particles().v[0];
   r.angular_velocity = world.particles().w[0];
   return r;
@@ -104,14 +118,7 @@ inline std::array<Rebound, 2> spheres_meeting(const HertzMindlinParams& p, BallS
   world.add_ball(first);
   world.add_ball(second);
   world.set_contact_model(ContactKind::BallBall, make_contact_model<HertzMindlinLaw>(p, "ball-ball"));
-  bool touched = false;
-  for (int s = 0; s < 1000000; ++s) {
-    world.step();
-    const PairContacts& c = world.pair_contacts(ContactKind::BallBall);
-    const bool touching = c.size() == 1 && c.normal_force[0] > 0.0;
-    if (!touching && touched) break;
-    touched = touched || touching;
-  }
+  step_through_impact(world, pair_force, [](double) {});
   const ParticleStore& b = world.particles();
   std::array<Rebound, 2> r;
   for (int k = 0; k < 2; ++k) {
