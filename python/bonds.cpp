@@ -20,14 +20,6 @@ namespace dem::python {
 
 namespace {
 
-py::array_t<double> rows_of(const std::vector<Vec3>& v) {
-  py::array_t<double> a({static_cast<py::ssize_t>(v.size()), py::ssize_t{3}});
-  auto r = a.mutable_unchecked<2>();
-  for (std::size_t i = 0; i < v.size(); ++i)
-    for (int k = 0; k < 3; ++k) r(static_cast<py::ssize_t>(i), k) = v[i][k];
-  return a;
-}
-
 template <class T>
 py::array copied(const std::vector<T>& v) {
   return py::array(py::cast(v));
@@ -41,8 +33,8 @@ py::dict bonds_of(const World& world) {
   d["normal_stiffness"] = copied(b.normal_stiffness), d["shear_stiffness"] = copied(b.shear_stiffness);
   d["tensile_strength"] = copied(b.tensile_strength), d["cohesion"] = copied(b.cohesion);
   d["friction_angle"] = copied(b.friction_angle);
-  d["normal_force"] = copied(b.normal_force), d["shear_force"] = rows_of(b.shear_force);
-  d["twist_moment"] = copied(b.twist_moment), d["bend_moment"] = rows_of(b.bend_moment);
+  d["normal_force"] = copied(b.normal_force), d["shear_force"] = vec3_rows(b.shear_force);
+  d["twist_moment"] = copied(b.twist_moment), d["bend_moment"] = vec3_rows(b.bend_moment);
   d["status"] = copied(b.status);
   std::vector<double> energy(b.size());
   for (std::size_t k = 0; k < b.size(); ++k) energy[k] = ParallelBondLaw::strain_energy(b.params(k), b.state(k));

@@ -524,16 +524,9 @@ void bind_engine(py::module_& m) {
                normal_force.push_back(c.normal_force);
              });
              auto owned = [](auto&& v) { return py::array(py::cast(std::move(v))); };
-             auto rows = [](const std::vector<Vec3>& v) {
-               py::array_t<double> a({static_cast<py::ssize_t>(v.size()), py::ssize_t{3}});
-               auto r = a.mutable_unchecked<2>();
-               for (std::size_t i = 0; i < v.size(); ++i)
-                 for (int k = 0; k < 3; ++k) r(static_cast<py::ssize_t>(i), k) = v[i][k];
-               return a;
-             };
              py::dict d;
              d["kind"] = owned(kind), d["first"] = owned(first), d["second"] = owned(second);
-             d["normal"] = rows(normal), d["point"] = rows(point), d["force"] = rows(force);
+             d["normal"] = vec3_rows(normal), d["point"] = vec3_rows(point), d["force"] = vec3_rows(force);
              d["normal_force"] = owned(normal_force);
              return d;
            },

@@ -34,14 +34,6 @@ std::vector<double> doubles(const py::array_t<double, py::array::c_style | py::a
   return std::vector<double>(a.data(), a.data() + a.size());
 }
 
-py::array_t<double> rows(const std::vector<Vec3>& points) {
-  py::array_t<double> out({static_cast<py::ssize_t>(points.size()), py::ssize_t{3}});
-  auto r = out.mutable_unchecked<2>();
-  for (std::size_t i = 0; i < points.size(); ++i)
-    for (py::ssize_t a = 0; a < 3; ++a) r(static_cast<py::ssize_t>(i), a) = points[i][a];
-  return out;
-}
-
 void bind_cell(py::module_& m) {
   py::enum_<lab::RingVertical>(m, "RingVertical", "How the rings move vertically once the specimen is made (docs/model.md 4)")
       .value("FIXED", lab::RingVertical::Fixed, "held at their generation heights")
@@ -111,7 +103,7 @@ void bind_specimen(py::module_& m) {
       .def_readwrite("height", &lab::Cylinder::height, "Height (m)");
   m.def("place_without_overlap",
         [](const lab::Cylinder& cavity, const py::array_t<double, py::array::c_style | py::array::forcecast>& radii,
-           std::mt19937_64& rng) { return rows(lab::place_without_overlap(cavity, doubles(radii), rng)); },
+           std::mt19937_64& rng) { return vec3_rows(lab::place_without_overlap(cavity, doubles(radii), rng)); },
         py::arg("cavity"), py::arg("radii"), py::arg("rng"),
         "Centres (m, N x 3) for balls of the given radii (m), drawn one after the other inside the cavity, none\n"
         "overlapping (ValueError when a ball finds no room in 100000 draws).\n\n"
