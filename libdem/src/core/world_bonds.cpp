@@ -1,9 +1,13 @@
-// The bonds' part of a step: after the contact laws have summed their forces, each intact bond in
-// bond order reads its balls' motion, advances its law (contact/parallel_bond.hpp) and adds its
-// force and torques into the balls' sums. One thread, one bond at a time: every ball's sum gets
-// its bond parts in the same order whatever the thread count, so the results are the same bits
-// on any team. (A threaded loop would need the pair loops' deferred sums; bonds are few next to
-// contacts in the runs so far.)
+// The bonds' part of a step: after the contact laws have summed their forces, the intact bonds in
+// bond order are taken in blocks: each block's balls' motion is copied out, the bonds' law
+// (contact/parallel_bond.hpp, update_lanes) runs for the whole block in SIMD lanes, and then each
+// bond in turn stores its loads and adds its force and torques into its balls' sums. One thread:
+// every ball's sum gets its bond parts in the same order whatever the thread count, so the results
+// are the same bits on any team, and the same as one bond at a time on any instruction set.
+//
+// Why blocks: one bond's arithmetic is a chain of dependent square roots and divisions (the loads
+// rotated into the bond plane, the edge stresses), which one bond at a time leaves the processor
+// waiting on; side by side in lanes, as the contact blocks (core/contact_loops.hpp), they overlap.
 //
 // The bond point is where a contact's would be: on the line of centres, halfway across the gap (or
 // the overlap). In a periodic cell piece 2 is the image nearest to piece 1, found each step: a
@@ -12,9 +16,84 @@
 #include <string>
 
 #include <dem/base/errors.hpp>
+#include <dem/contact/lanes.hpp>
+#include <dem/core/block_isa.hpp>
+#include <dem/core/block_targets.hpp>
 #include <dem/core/world.hpp>
 
 namespace dem {
+
+namespace {
+
+constexpr int bond_block = 64;
+
+/// A block of intact bonds: the inputs copied from the balls and the store, the loads (updated in
+/// place) and the results, one entry per bond.
+struct BondBlock {
+  std::size_t bond[bond_block], first[bond_block], second[bond_block];  // bond index; balls' storage indices
+  // inputs: branch d = x2 - x1 (m; piece 2's nearest image in a cell), radii (m), piece 2's
+  // velocity (its image's) and both pieces' velocity of piece 1 and angular velocities
+  double dx[bond_block], dy[bond_block], dz[bond_block], radius_1[bond_block], radius_2[bond_block];
+  double v1[3 * bond_block], v2[3 * bond_block], w1[3 * bond_block], w2[3 * bond_block];
+  // the bonds' parameters (ParallelBondLaw::Params; tan(phi) for the friction angle)
+  double radius[bond_block], normal_stiffness[bond_block], shear_stiffness[bond_block];
+  double tensile_strength[bond_block], cohesion[bond_block], tan_phi[bond_block];
+  // loads (ParallelBondLaw::LaneState), in and out
+  double normal_force[bond_block], fsx[bond_block], fsy[bond_block], fsz[bond_block];
+  double twist_moment[bond_block], mbx[bond_block], mby[bond_block], mbz[bond_block];
+  // results: distance of centres (m), force on piece 2, torques on pieces 1 and 2, BondStatus
+  double distance[bond_block], fx[bond_block], fy[bond_block], fz[bond_block];
+  double t1x[bond_block], t1y[bond_block], t1z[bond_block], t2x[bond_block], t2y[bond_block], t2z[bond_block];
+  int status[bond_block];
+};
+
+/// The block's kinematics, law and torques, each bond independent of the others: the arithmetic
+/// of one bond at a time, in the same order (the same bits).
+DEM_HOT_INLINE void bond_lanes(BondBlock& b, int count, double dt) {
+DEM_INDEPENDENT_ITERATIONS
+  for (int m = 0; m < count; ++m) {
+    const Lane3 d{b.dx[m], b.dy[m], b.dz[m]};
+    const double dist = std::sqrt(squared_norm(d));
+    const Lane3 normal = (1.0 / dist) * d;
+    const double overlap = b.radius_1[m] + b.radius_2[m] - dist;   // m, negative across a gap
+    const Lane3 arm_first = (b.radius_1[m] - 0.5 * overlap) * normal;  // bond point - x_1
+    const Lane3 arm_second = arm_first - d;                             // bond point - x_2
+    const Lane3 w1{b.w1[3 * m], b.w1[3 * m + 1], b.w1[3 * m + 2]}, w2{b.w2[3 * m], b.w2[3 * m + 1], b.w2[3 * m + 2]};
+    const Lane3 v1{b.v1[3 * m], b.v1[3 * m + 1], b.v1[3 * m + 2]}, v2{b.v2[3 * m], b.v2[3 * m + 1], b.v2[3 * m + 2]};
+    const Lane3 relative_velocity = (v2 + cross(w2, arm_second)) - (v1 + cross(w1, arm_first));
+    const ParallelBondLaw::Params params{b.radius[m],           b.normal_stiffness[m], b.shear_stiffness[m],
+                                         b.tensile_strength[m], b.cohesion[m],         0.0};
+    ParallelBondLaw::LaneState s{b.normal_force[m], {b.fsx[m], b.fsy[m], b.fsz[m]}, b.twist_moment[m],
+                                 {b.mbx[m], b.mby[m], b.mbz[m]}};
+    b.status[m] = ParallelBondLaw::update_lanes(params, b.tan_phi[m], normal, relative_velocity, w2 - w1, dt, s);
+    b.normal_force[m] = s.normal_force, b.twist_moment[m] = s.twist_moment;
+    b.fsx[m] = s.shear_force.x, b.fsy[m] = s.shear_force.y, b.fsz[m] = s.shear_force.z;
+    b.mbx[m] = s.bend_moment.x, b.mby[m] = s.bend_moment.y, b.mbz[m] = s.bend_moment.z;
+    const Lane3 force = ParallelBondLaw::force(s, normal);  // on piece 2
+    const Lane3 torque_first = -cross(arm_first, force) - ParallelBondLaw::moment(s, normal);
+    const Lane3 torque_second = -cross(d, force) - torque_first;  // as second_torque()
+    b.distance[m] = dist;
+    b.fx[m] = force.x, b.fy[m] = force.y, b.fz[m] = force.z;
+    b.t1x[m] = torque_first.x, b.t1y[m] = torque_first.y, b.t1z[m] = torque_first.z;
+    b.t2x[m] = torque_second.x, b.t2y[m] = torque_second.y, b.t2z[m] = torque_second.z;
+  }
+}
+
+// The block compiled for each instruction set (block_targets.hpp); the best is chosen at run time.
+DEM_TARGET_AVX2 void bond_block_avx2(BondBlock& b, int count, double dt) { bond_lanes(b, count, dt); }
+DEM_TARGET_AVX512 void bond_block_avx512(BondBlock& b, int count, double dt) { bond_lanes(b, count, dt); }
+void bond_block_scalar(BondBlock& b, int count, double dt) { bond_lanes(b, count, dt); }
+
+using BondKernel = void (*)(BondBlock&, int, double);
+BondKernel bond_kernel() {
+  switch (detail::block_isa()) {
+    case detail::BlockIsa::avx512: return &bond_block_avx512;
+    case detail::BlockIsa::avx2: return &bond_block_avx2;
+    default: return &bond_block_scalar;
+  }
+}
+
+}  // namespace
 
 std::size_t World::add_bond(ParticleId a, ParticleId b, const ParallelBondLaw::Params& params) {
   require(!spread(), "a bond in a World spread over processes", std::to_string(ranks()) + " processes",
@@ -37,42 +116,75 @@ void World::compute_bond_forces() {
   BondStore& bonds = state_.bonds;
   ParticleStore& p = state_.particles;
   const PeriodicCell* cell = state_.cell ? &*state_.cell : nullptr;
-  for (std::size_t k = 0; k < bonds.size(); ++k) {
-    if (!bonds.intact(k)) continue;
-    const std::size_t i = p.index_of(bonds.first[k]), j = p.index_of(bonds.second[k]);
-    Vec3 d = p.x[j] - p.x[i];  // branch, m
-    Vec3 v_second = p.v[j];
-    if (cell) {  // the image of piece 2 nearest to piece 1
-      const Vec3 reduced = cell->inverse() * d;
-      const std::array<int, 3> n{static_cast<int>(-std::round(reduced.x())), static_cast<int>(-std::round(reduced.y())),
-                                 static_cast<int>(-std::round(reduced.z()))};
-      d += cell->image_shift(n);
-      v_second += cell->image_velocity_shift(n);
+  const BondKernel kernel = bond_kernel();
+  thread_local BondBlock block;  // 30 kB: not on the stack
+  BondBlock& b = block;
+  // The arrays as plain pointers: the block's stores could otherwise alias the vectors' own
+  // pointers for the compiler, which would then reload them for every bond.
+  const std::size_t total = bonds.size();
+  const std::uint8_t* status = bonds.status.data();
+  const ParticleId *first = bonds.first.data(), *second = bonds.second.data();
+  const double *radius = bonds.radius.data(), *normal_stiffness = bonds.normal_stiffness.data();
+  const double *shear_stiffness = bonds.shear_stiffness.data(), *tensile_strength = bonds.tensile_strength.data();
+  const double *cohesion = bonds.cohesion.data(), *friction_angle = bonds.friction_angle.data();
+  double *normal_force = bonds.normal_force.data(), *twist_moment = bonds.twist_moment.data();
+  Vec3 *shear_force = bonds.shear_force.data(), *bend_moment = bonds.bend_moment.data();
+  const Vec3 *x = p.x.data(), *v = p.v.data(), *w = p.w.data();
+  const double* ball_radius = p.radius.data();
+  Vec3 *f = p.f.data(), *t = p.t.data();
+  const auto intact = static_cast<std::uint8_t>(BondStatus::intact);
+  std::size_t next = 0;
+  while (next < total) {
+    // 1. the next intact bonds, their balls' motion and their loads copied into the block
+    int count = 0;
+    for (; next < total && count < bond_block; ++next) {
+      if (status[next] != intact) continue;
+      const std::size_t k = next, i = p.index_of(first[k]), j = p.index_of(second[k]);
+      Vec3 d = x[j] - x[i];  // branch, m
+      Vec3 v_second = v[j];
+      if (cell) {  // the image of piece 2 nearest to piece 1
+        const Vec3 reduced = cell->inverse() * d;
+        const std::array<int, 3> n{static_cast<int>(-std::round(reduced.x())), static_cast<int>(-std::round(reduced.y())),
+                                   static_cast<int>(-std::round(reduced.z()))};
+        d += cell->image_shift(n);
+        v_second += cell->image_velocity_shift(n);
+      }
+      const int m = count++;
+      b.bond[m] = k, b.first[m] = i, b.second[m] = j;
+      b.dx[m] = d.x(), b.dy[m] = d.y(), b.dz[m] = d.z();
+      b.radius_1[m] = ball_radius[i], b.radius_2[m] = ball_radius[j];
+      for (int c = 0; c < 3; ++c) {
+        b.v1[3 * m + c] = v[i][c], b.v2[3 * m + c] = v_second[c];
+        b.w1[3 * m + c] = w[i][c], b.w2[3 * m + c] = w[j][c];
+      }
+      b.radius[m] = radius[k], b.normal_stiffness[m] = normal_stiffness[k];
+      b.shear_stiffness[m] = shear_stiffness[k], b.tensile_strength[m] = tensile_strength[k];
+      b.cohesion[m] = cohesion[k];
+      b.tan_phi[m] = friction_angle[k] == 0.0 ? 0.0 : ParallelBondLaw::tan_friction(bonds.params(k));
+      b.normal_force[m] = normal_force[k], b.twist_moment[m] = twist_moment[k];
+      b.fsx[m] = shear_force[k].x(), b.fsy[m] = shear_force[k].y(), b.fsz[m] = shear_force[k].z();
+      b.mbx[m] = bend_moment[k].x(), b.mby[m] = bend_moment[k].y(), b.mbz[m] = bend_moment[k].z();
     }
-    const double dist = d.norm();
-    if (!(dist > 0.0)) fail("bond " + std::to_string(k) + " joins two balls at the same place", i);
-    ParallelBondLaw::Motion m;
-    m.normal = d * (1.0 / dist);
-    const double overlap = p.radius[i] + p.radius[j] - dist;   // m, negative across a gap
-    const Vec3 arm_first = (p.radius[i] - 0.5 * overlap) * m.normal;  // bond point - x_i
-    const Vec3 arm_second = arm_first - d;                           // bond point - x_j
-    m.relative_velocity = (v_second + p.w[j].cross(arm_second)) - (p.v[i] + p.w[i].cross(arm_first));
-    m.relative_angular_velocity = p.w[j] - p.w[i];
-    m.dt = state_.clock.dt;
-    ParallelBondLaw::State s = bonds.state(k), at_break;
-    const BondStatus status = ParallelBondLaw::update(bonds.params(k), m, s, &at_break);
-    if (status != BondStatus::intact) {  // it keeps the loads that broke it (BondStore::released_energy)
-      bonds.set_state(k, at_break);
-      bonds.status[k] = static_cast<std::uint8_t>(status);
-      continue;
+    if (count == 0) break;
+    // 2. the law, every bond of the block side by side
+    kernel(b, count, state_.clock.dt);
+    // 3. in bond order: the loads stored (a broken bond keeps those that broke it:
+    //    BondStore::released_energy), and an intact bond's force and torques added to its balls
+    for (int m = 0; m < count; ++m) {
+      const std::size_t k = b.bond[m], i = b.first[m], j = b.second[m];
+      if (!(b.distance[m] > 0.0)) fail("bond " + std::to_string(k) + " joins two balls at the same place", i);
+      normal_force[k] = b.normal_force[m], twist_moment[k] = b.twist_moment[m];
+      shear_force[k] = Vec3(b.fsx[m], b.fsy[m], b.fsz[m]);
+      bend_moment[k] = Vec3(b.mbx[m], b.mby[m], b.mbz[m]);
+      if (b.status[m] != static_cast<int>(BondStatus::intact)) {
+        bonds.status[k] = static_cast<std::uint8_t>(b.status[m]);
+        continue;
+      }
+      f[j].x() += b.fx[m], f[j].y() += b.fy[m], f[j].z() += b.fz[m];
+      f[i].x() -= b.fx[m], f[i].y() -= b.fy[m], f[i].z() -= b.fz[m];
+      t[i].x() += b.t1x[m], t[i].y() += b.t1y[m], t[i].z() += b.t1z[m];
+      t[j].x() += b.t2x[m], t[j].y() += b.t2y[m], t[j].z() += b.t2z[m];
     }
-    bonds.set_state(k, s);
-    const Vec3 force = ParallelBondLaw::force(s, m.normal);  // on piece 2
-    const Vec3 torque_first = -arm_first.cross(force) - ParallelBondLaw::moment(s, m.normal);
-    p.f[j] += force;
-    p.f[i] -= force;
-    p.t[i] += torque_first;
-    p.t[j] += second_torque(d, force, torque_first);
   }
 }
 

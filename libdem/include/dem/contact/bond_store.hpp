@@ -8,9 +8,10 @@
 // that counts and outputs can report it; it carries nothing more, and keeps in its state the loads
 // it carried on the step it broke (what released_energy() sums; restart files keep them).
 //
-// The engine visits the bonds after the contact laws, in bond order, one at a time, and adds each
-// bond's force and torques into its balls' sums in that order: the sums are the same bits on any
-// thread count (a serial loop, for now). An empty store costs one size test per step.
+// The engine visits the bonds after the contact laws, in bond order, in blocks computed in SIMD
+// lanes, and adds each bond's force and torques into its balls' sums in that order: the sums are
+// the same bits on any thread count and instruction set (one thread, for now). An empty store
+// costs one size test per step.
 #pragma once
 
 #include <cstddef>

@@ -16,7 +16,7 @@
 // (PFC's shear strength: compression, Fn < 0, strengthens it). A broken bond carries nothing more.
 //
 // Plain data and static functions, as the contact laws: the engine's bond loop (core) reads the
-// pieces' motion, calls update() and adds the result to the pieces.
+// pieces' motion of a block of bonds, calls update_lanes() for each and adds the results to the pieces.
 #pragma once
 
 #include <cmath>
@@ -26,6 +26,7 @@
 #include <dem/base/errors.hpp>
 #include <dem/base/math.hpp>
 #include <dem/contact/kinematics.hpp>
+#include <dem/contact/lanes.hpp>
 
 namespace dem {
 
@@ -84,27 +85,57 @@ struct ParallelBondLaw {
   /// Advances the bond by one step and checks its strength; returns intact or how it broke (then
   /// the State is zero and `at_break`, if given, receives the loads that broke it).
   static BondStatus update(const Params& p, const Motion& m, State& s, State* at_break = nullptr) {
-    const Vec3& n = m.normal;
-    s.shear_force = rotate_into_plane(s.shear_force, n);
-    s.bend_moment = rotate_into_plane(s.bend_moment, n);
-    const double normal_speed = m.relative_velocity.dot(n);  // > 0 separating
-    const Vec3 shear_velocity = m.relative_velocity - normal_speed * n;
-    const double twist_rate = m.relative_angular_velocity.dot(n);
-    const Vec3 bend_rate = m.relative_angular_velocity - twist_rate * n;
-    const double area = p.area(), inertia = p.bending_inertia(), polar = p.polar_inertia();
-    s.normal_force += p.normal_stiffness * area * (normal_speed * m.dt);
-    s.shear_force -= p.shear_stiffness * area * (shear_velocity * m.dt);
-    s.twist_moment -= p.shear_stiffness * polar * (twist_rate * m.dt);
-    s.bend_moment -= p.normal_stiffness * inertia * (bend_rate * m.dt);
-    BondStatus out = BondStatus::intact;
-    if (tensile_stress(p, s) > p.tensile_strength) out = BondStatus::broken_tension;
-    else if (shear_stress(p, s) > shear_strength(p, s)) out = BondStatus::broken_shear;
+    LaneState l{s.normal_force, lane(s.shear_force), s.twist_moment, lane(s.bend_moment)};
+    const auto out = static_cast<BondStatus>(update_lanes(p, tan_friction(p), lane(m.normal), lane(m.relative_velocity),
+                                                          lane(m.relative_angular_velocity), m.dt, l));
+    s = {l.normal_force, to_vec3(l.shear_force), l.twist_moment, to_vec3(l.bend_moment)};
     if (out != BondStatus::intact) {
       if (at_break) *at_break = s;
       s = State{};
     }
     return out;
   }
+
+  /// State in plain doubles (contact/lanes.hpp), for update_lanes.
+  struct LaneState {
+    double normal_force;
+    Lane3 shear_force;
+    double twist_moment;
+    Lane3 bend_moment;
+  };
+
+  /// update() for the engine's SIMD bond blocks: the bond's loads advanced by one step over the
+  /// relative motion (unit `normal`, velocity and angular velocity of piece 2 relative to piece 1)
+  /// in plain doubles and without branches, the loads kept even when it breaks; returns the
+  /// BondStatus as an int. `tan_phi` is tan_friction(p). update() calls it: one formula, the same
+  /// bits in lanes as one bond at a time.
+  DEM_HOT_INLINE static int update_lanes(const Params& p, double tan_phi, const Lane3& normal,
+                                         const Lane3& relative_velocity, const Lane3& relative_angular_velocity,
+                                         double dt, LaneState& s) {
+    const Lane3& n = normal;
+    s.shear_force = rotate_into_plane(s.shear_force, n);
+    s.bend_moment = rotate_into_plane(s.bend_moment, n);
+    const double normal_speed = dot(relative_velocity, n);  // > 0 separating
+    const Lane3 shear_velocity = relative_velocity - normal_speed * n;
+    const double twist_rate = dot(relative_angular_velocity, n);
+    const Lane3 bend_rate = relative_angular_velocity - twist_rate * n;
+    const double area = p.area(), inertia = p.bending_inertia(), polar = p.polar_inertia();
+    s.normal_force += p.normal_stiffness * area * (normal_speed * dt);
+    s.shear_force = s.shear_force - (p.shear_stiffness * area) * (dt * shear_velocity);
+    s.twist_moment -= p.shear_stiffness * polar * (twist_rate * dt);
+    s.bend_moment = s.bend_moment - (p.normal_stiffness * inertia) * (dt * bend_rate);
+    // the stresses at the disc's edge (tension positive) against the strengths
+    const double tensile = s.normal_force / area + std::sqrt(squared_norm(s.bend_moment)) * p.radius / inertia;
+    const double shear = std::sqrt(squared_norm(s.shear_force)) / area + std::abs(s.twist_moment) * p.radius / polar;
+    // phi = 0, the usual cement: c - (Fn / A) x 0 is c (Fn is finite); selected, not branched on
+    const double shear_strength =
+        std::max(0.0, tan_phi == 0.0 ? p.cohesion : p.cohesion - s.normal_force / area * tan_phi);
+    const int broken_in_shear = shear > shear_strength ? static_cast<int>(BondStatus::broken_shear) : 0;
+    return tensile > p.tensile_strength ? static_cast<int>(BondStatus::broken_tension) : broken_in_shear;
+  }
+
+  /// tan(phi) for update_lanes (0 for phi = 0, the usual cement, without calling tan()).
+  static double tan_friction(const Params& p) { return p.friction_angle == 0.0 ? 0.0 : std::tan(p.friction_angle); }
 
   /// The elastic energy the bond stores with loads `s`, J (PFC's pb strain energy):
   /// Fn^2 / (2 kn A) + |Fs|^2 / (2 ks A) + Mt^2 / (2 ks J) + |Mb|^2 / (2 kn I).
@@ -117,23 +148,12 @@ struct ParallelBondLaw {
   }
 
   /// The force on piece 2 (N); piece 1 gets the opposite. Tension pulls piece 2 back to piece 1.
-  static Vec3 force(const State& s, const Vec3& normal) { return -s.normal_force * normal + s.shear_force; }
+  DEM_HOT_INLINE static Lane3 force(const LaneState& s, const Lane3& normal) {
+    return (-s.normal_force) * normal + s.shear_force;
+  }
   /// The pure moment on piece 2 (N m); piece 1 gets the opposite.
-  static Vec3 moment(const State& s, const Vec3& normal) { return s.twist_moment * normal + s.bend_moment; }
-
-  /// Largest normal stress at the disc's edge, Pa, tension positive.
-  static double tensile_stress(const Params& p, const State& s) {
-    return s.normal_force / p.area() + s.bend_moment.norm() * p.radius / p.bending_inertia();
-  }
-  /// Largest shear stress at the disc's edge, Pa.
-  static double shear_stress(const Params& p, const State& s) {
-    return s.shear_force.norm() / p.area() + std::abs(s.twist_moment) * p.radius / p.polar_inertia();
-  }
-  /// Shear strength at the bond's normal stress, Pa: c - (Fn / A) tan(phi), at least 0.
-  static double shear_strength(const Params& p, const State& s) {
-    // phi = 0, the usual cement, skips tan(): c - (Fn / A) x 0 is c, the same bits (Fn is finite).
-    if (p.friction_angle == 0.0) return std::max(0.0, p.cohesion);
-    return std::max(0.0, p.cohesion - s.normal_force / p.area() * std::tan(p.friction_angle));
+  DEM_HOT_INLINE static Lane3 moment(const LaneState& s, const Lane3& normal) {
+    return s.twist_moment * normal + s.bend_moment;
   }
 
   /// The bond's stiffness on its pieces, for the stable time step (docs/model.md 3.2): kn A and
@@ -147,13 +167,17 @@ struct ParallelBondLaw {
     return k;
   }
 
-  /// A vector rotated into the plane normal to `normal`, keeping its length (zero stays zero).
-  static Vec3 rotate_into_plane(const Vec3& v, const Vec3& normal) {
-    const double length_sq = v.squaredNorm();
-    if (length_sq == 0.0) return v;
-    const Vec3 projected = v - v.dot(normal) * normal;
-    const double projected_sq = projected.squaredNorm();
-    return projected_sq > 0.0 ? std::sqrt(length_sq / projected_sq) * projected : projected;
+  /// A vector rotated into the plane normal to `normal`, keeping its length (zero stays zero);
+  /// the square root and quotient computed and then selected, so that blocks run in SIMD lanes.
+  DEM_HOT_INLINE static Lane3 rotate_into_plane(const Lane3& v, const Lane3& normal) {
+    const double length_sq = squared_norm(v);
+    const Lane3 projected = v - dot(v, normal) * normal;
+    const double projected_sq = squared_norm(projected);
+    const bool rescale = projected_sq > 0.0;
+    const double root = std::sqrt(length_sq / (rescale ? projected_sq : 1.0));
+    const Lane3 rotated = (rescale ? root : 1.0) * projected;
+    const bool zero = length_sq == 0.0;
+    return {zero ? v.x : rotated.x, zero ? v.y : rotated.y, zero ? v.z : rotated.z};
   }
 };
 

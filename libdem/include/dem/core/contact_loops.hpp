@@ -26,20 +26,13 @@
 #include <dem/contact/contact_law.hpp>
 #include <dem/contact/lanes.hpp>
 #include <dem/core/block_isa.hpp>
+#include <dem/core/block_targets.hpp>
 #include <dem/core/contact_model.hpp>
 #include <dem/core/pair_geometry.hpp>
 #include <dem/core/parallel.hpp>
 #include <dem/core/particles.hpp>
 #include <dem/core/step_plan.hpp>
 #include <dem/geometry/triangle.hpp>
-
-// "The iterations of the next loop are independent": lets GCC vectorise a loop whose arrays it
-// cannot prove apart.
-#if defined(__GNUC__) && !defined(__clang__)
-#define DEM_INDEPENDENT_ITERATIONS _Pragma("GCC ivdep")
-#else
-#define DEM_INDEPENDENT_ITERATIONS
-#endif
 
 // "This address will be read (written) soon": starts loading its cache line (a hint; no effect on
 // results).
@@ -118,30 +111,6 @@ DEM_HOT_INLINE LaneForce lane_force(const typename Law::Params& p, const LaneKin
   if constexpr (Variant < 0) return Law::force_lanes(p, k, s);
   else return Law::template force_lanes<Variant>(p, k, s);
 }
-
-// Blocks pay for staging their inputs and results through memory; they win where the processor
-// has 4-wide double SIMD (AVX2: about 2.4x the contact arithmetic per second of one contact at a
-// time), and lose with SSE2's 2 lanes. With AVX-512's 8 lanes the block takes a quarter less time
-// again (12 instead of 16 ns per rolling-linear contact): its square roots and divisions have the
-// same throughput per lane, the rest of its arithmetic twice that. So on x86-64 with GCC or Clang
-// each block is compiled for AVX2 and for AVX-512, and the processor's best is chosen at run time;
-// one contact at a time elsewhere. Every path gives the same bits: IEEE operations lane by lane,
-// and no FMA (a fused multiply-add rounds once where the others round twice).
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-// AVX-512 has fused multiply-adds of its own, which the compiler would contract products and sums
-// into (GCC's default, -ffp-contract=fast): GCC's AVX-512 copy is told not to. Clang has no such
-// per-function switch, so with Clang the blocks stay on AVX2 (block_isa.cpp). GCC also keeps to
-// 256-bit vectors unless told otherwise.
-#define DEM_TARGET_AVX2 __attribute__((target("avx2")))
-#if defined(__clang__)
-#define DEM_TARGET_AVX512 DEM_TARGET_AVX2  // never chosen
-#else
-#define DEM_TARGET_AVX512 __attribute__((target("avx512f,prefer-vector-width=512"), optimize("fp-contract=off")))
-#endif
-#else
-#define DEM_TARGET_AVX2
-#define DEM_TARGET_AVX512
-#endif
 
 inline bool lanes_worthwhile() { return block_isa() != BlockIsa::scalar; }
 
