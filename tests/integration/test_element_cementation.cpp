@@ -86,6 +86,13 @@ TEST_CASE("element test: a cemented specimen counts its bonds, and resumes", "[e
   CHECK(summary["bonds"]["intact"].get<double>() == at(last, "bonds_intact"));
   CHECK(summary["bonds"]["broken_shear"].get<double>() == at(last, "bonds_broken_shear"));
   CHECK(summary["bonds"]["energy_released_J"].get<double>() == Approx(at(last, "bond_energy_released_J")).epsilon(1e-12));
+  // broken_bonds.vtp: a point for each broken bond, with the test's strain it broke at.
+  const double broken = at(last, "bonds_broken_tension") + at(last, "bonds_broken_shear");
+  REQUIRE(broken > 0.0);
+  const std::string vtp = testing::file_text(whole / "broken_bonds.vtp");
+  CHECK_THAT(vtp, Contains("NumberOfPoints=\"" + std::to_string(static_cast<int>(broken)) + "\"") &&
+                      Contains("test_strain_broken") && Contains("energy_released_J"));
+  CHECK_THAT(testing::file_text(whole / "manifest.json"), Contains("broken_bonds.vtp"));
 
   // The same consolidated specimen loaded without cement: no bond columns, another curve.
   io::Config plain = keys;
@@ -103,6 +110,7 @@ TEST_CASE("element test: a cemented specimen counts its bonds, and resumes", "[e
   CHECK_THROWS_WITH(run_to_end(keys, killed, {}, middle + 3), Contains("stopped"));
   run_to_end(keys, killed, killed / "restart.restart");
   CHECK(testing::file_text(killed / "history.csv") == testing::file_text(whole / "history.csv"));
+  CHECK(testing::file_text(killed / "broken_bonds.vtp") == vtp);
 }
 
 TEST_CASE("element test: bad cementation keys are refused by key, value and range", "[element-test][bond]") {

@@ -374,6 +374,11 @@ TEST_CASE("parallel bond: across a periodic face as inside the cell", "[physics]
   CHECK((cell.bonds().shear_force[0] - open.bonds().shear_force[0]).norm() < 1e-6 * scale);
   CHECK(std::abs(cell.bonds().twist_moment[0] - open.bonds().twist_moment[0]) <
         1e-6 * std::abs(open.bonds().twist_moment[0]));
+  // The bond's branch (what the broken-bond files place the bond point by) goes to the image too:
+  // the open pair's, where the stored positions are almost a cell apart.
+  const double branch_scale = open.bond_branch(0).norm();
+  CHECK((cell.bond_branch(0) - open.bond_branch(0)).norm() < 1e-9 * branch_scale);
+  CHECK((cell.particles().x[1] - cell.particles().x[0]).norm() > 0.5 * edge);
 }
 
 TEST_CASE("parallel bond: a restart file of format 3 (no bonds) still loads", "[physics][bond][restart]") {

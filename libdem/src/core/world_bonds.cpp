@@ -93,7 +93,26 @@ BondKernel bond_kernel() {
   }
 }
 
+/// Moves piece 2 of a bond with branch `d` = x2 - x1 to its image nearest piece 1 in `cell`:
+/// d gets the image's shift and `v_second` (if given) its velocity shift.
+void to_nearest_image(const PeriodicCell& cell, Vec3& d, Vec3* v_second) {
+  const Vec3 reduced = cell.inverse() * d;
+  const std::array<int, 3> n{static_cast<int>(-std::round(reduced.x())), static_cast<int>(-std::round(reduced.y())),
+                             static_cast<int>(-std::round(reduced.z()))};
+  d += cell.image_shift(n);
+  if (v_second) *v_second += cell.image_velocity_shift(n);
+}
+
 }  // namespace
+
+Vec3 World::bond_branch(std::size_t k) const {
+  const BondStore& bonds = state_.bonds;
+  require(k < bonds.size(), "bond index", k, "below the bond count " + std::to_string(bonds.size()));
+  const ParticleStore& p = state_.particles;
+  Vec3 d = p.x[p.index_of(bonds.second[k])] - p.x[p.index_of(bonds.first[k])];
+  if (state_.cell) to_nearest_image(*state_.cell, d, nullptr);
+  return d;
+}
 
 std::size_t World::add_bond(ParticleId a, ParticleId b, const ParallelBondLaw::Params& params) {
   require(!spread(), "a bond in a World spread over processes", std::to_string(ranks()) + " processes",
@@ -142,13 +161,7 @@ void World::compute_bond_forces() {
       const std::size_t k = next, i = p.index_of(first[k]), j = p.index_of(second[k]);
       Vec3 d = x[j] - x[i];  // branch, m
       Vec3 v_second = v[j];
-      if (cell) {  // the image of piece 2 nearest to piece 1
-        const Vec3 reduced = cell->inverse() * d;
-        const std::array<int, 3> n{static_cast<int>(-std::round(reduced.x())), static_cast<int>(-std::round(reduced.y())),
-                                   static_cast<int>(-std::round(reduced.z()))};
-        d += cell->image_shift(n);
-        v_second += cell->image_velocity_shift(n);
-      }
+      if (cell) to_nearest_image(*cell, d, &v_second);
       const int m = count++;
       b.bond[m] = k, b.first[m] = i, b.second[m] = j;
       b.dx[m] = d.x(), b.dy[m] = d.y(), b.dz[m] = d.z();

@@ -10,7 +10,7 @@
 //      by the near skin;
 //   2. contact forces from the positions at t and the velocities at t - dt/2, summed per
 //      particle in contact order (results do not depend on the thread count);
-//      then the bonds' forces, one bond at a time in bond order (core/world_bonds.cpp);
+//      then the bonds' forces, in blocks, summed in bond order (core/world_bonds.cpp);
 //   3. controllers run (servo walls, user protocols) and may change wall velocities;
 //   4. balls and clumps are integrated with local (non-viscous) damping; walls move;
 //   5. the instability checks run; every-N-steps callbacks run.
@@ -102,6 +102,9 @@ class World {
   /// subdomains yet).
   std::size_t add_bond(ParticleId a, ParticleId b, const ParallelBondLaw::Params& params);
   const BondStore& bonds() const { return state_.bonds; }
+  /// Bond k's branch from its first ball to its second, x2 - x1 (m): in a periodic cell to the
+  /// second ball's image nearest the first, as the bond's force is computed.
+  Vec3 bond_branch(std::size_t k) const;
 
   // --- a periodic cell (boundary/periodic_cell.hpp) --------------------------------------------
   /// Puts the particles in a periodic cell: space is tiled with it, particles that leave it come

@@ -58,7 +58,7 @@ std::string to_string(ElementTestKind kind) {
 }
 
 std::vector<std::string> ElementTest::run_files() {
-  return {"history.csv", "summary.json", "restart.restart", "consolidated.restart", "final.restart"};
+  return {"history.csv", "summary.json", "restart.restart", "consolidated.restart", "final.restart", "broken_bonds.vtp"};
 }
 
 ElementTest::ElementTest(ElementTestConfig config, std::filesystem::path out_dir, std::ostream& log)
@@ -72,6 +72,9 @@ ElementTest::ElementTest(ElementTestConfig config, std::filesystem::path out_dir
   cyclic_path_ = e.cyclic_path == CyclicShape::Series ? CyclicPath::from_csv(e.cyclic_series_file, cyclic_period())
                                                       : CyclicPath(e.cyclic_path, e.cyclic_direction_deg, e.cyclic_minor_ratio);
   add_columns();
+  if (config_.cementation.after != CementAfter::None)
+    broken_bonds_ = std::make_unique<BrokenBondLog>(run_, "element_broken_bond_strains",
+                                                    e.test == ElementTestKind::CyclicSimpleShear ? "cycles" : "test_strain");
   run_.keep("stage", [this] { return static_cast<double>(stage_); }, [this](double v) {
     require(v >= 0 && v <= 2 && v == std::floor(v), "restart file: stage", v, "0, 1 or 2");
     stage_ = static_cast<Stage>(static_cast<int>(v));
@@ -237,6 +240,7 @@ void ElementTest::record_row() {
   }
   history_.record();
   const double strain = test_strain();
+  if (broken_bonds_) broken_bonds_->update(run_.world(), strain);  // the bonds broken since the last row
   while (next_row_strain_ <= strain + 1e-12) next_row_strain_ += row_spacing();
   if (stage_ != Stage::Loading) return;  // the peak of the loading path (a gas has none worth quoting)
   // The peak of |q|/p in extension, where q < 0.
@@ -300,6 +304,7 @@ void ElementTest::run() {
     stage_ = Stage::Done;
   }
   run_.add_wall_seconds(seconds_since(t0));
+  if (broken_bonds_) broken_bonds_->write_vtp(w, run_.folder() / "broken_bonds.vtp");
   run_.save(run_.folder() / "final.restart");
   run_.log() << to_string(config_.element.test) << " done at step " << w.step_count() << ": peak stress ratio " << peak_ratio_
              << " at strain " << peak_strain_ << "\n";

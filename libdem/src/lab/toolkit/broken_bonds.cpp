@@ -3,19 +3,23 @@
 
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include <dem/io/vtk.hpp>
 
 namespace dem::lab {
 
-BrokenBondLog::BrokenBondLog(Run& run, const std::string& key) { run.keep_points(key, seen_); }
+BrokenBondLog::BrokenBondLog(Run& run, const std::string& key, std::string strain_name)
+    : strain_name_(std::move(strain_name)) {
+  run.keep_points(key, seen_);
+}
 
-void BrokenBondLog::update(const World& world, double shear_strain) {
+void BrokenBondLog::update(const World& world, double strain) {
   const BondStore& b = world.bonds();
   const double none = std::numeric_limits<double>::quiet_NaN();
   if (seen_.size() < b.size()) seen_.resize(b.size(), Vec3(none, 0.0, 0.0));
   for (std::size_t k = 0; k < b.size(); ++k)
-    if (!b.intact(k) && std::isnan(seen_[k].x())) seen_[k] = Vec3(shear_strain, 0.0, 0.0);
+    if (!b.intact(k) && std::isnan(seen_[k].x())) seen_[k] = Vec3(strain, 0.0, 0.0);
 }
 
 std::vector<double> BrokenBondLog::strains() const {
@@ -32,7 +36,7 @@ void BrokenBondLog::write_vtp(const World& world, const std::filesystem::path& f
   for (std::size_t k = 0; k < b.size() && k < seen_.size(); ++k) {
     if (b.intact(k) || std::isnan(seen_[k].x())) continue;
     const std::size_t i = p.index_of(b.first[k]), j = p.index_of(b.second[k]);
-    const Vec3 d = p.x[j] - p.x[i];
+    const Vec3 d = world.bond_branch(k);  // to the nearest image in a periodic cell
     const double dist = d.norm();
     const double overlap = p.radius[i] + p.radius[j] - dist;
     points.push_back(dist > 0.0 ? Vec3(p.x[i] + (p.radius[i] - 0.5 * overlap) / dist * d) : p.x[i]);
@@ -43,7 +47,7 @@ void BrokenBondLog::write_vtp(const World& world, const std::filesystem::path& f
     second.push_back(static_cast<double>(b.second[k]));
   }
   io::write_points_vtp(file, points,
-                       {{"mode", mode}, {"shear_strain_broken", strain}, {"energy_released_J", energy}, {"first_id", first}, {"second_id", second}});
+                       {{"mode", mode}, {strain_name_ + "_broken", strain}, {"energy_released_J", energy}, {"first_id", first}, {"second_id", second}});
 }
 
 }  // namespace dem::lab

@@ -23,7 +23,9 @@
 // volumetric, axial or shear; element.rows_per_cycle a cycle in the cyclic test), summary.json (peak q/p, the end state), restart files in every
 // stage (restart.restart, consolidated.restart, final.restart), from which a run resumes exactly.
 // With cementation.after (docs/cementation.md), bonds are installed once the specimen is placed or
-// once it is compressed (after consolidated.restart is written), and history.csv counts them.
+// once it is compressed (after consolidated.restart is written), and history.csv counts them;
+// broken_bonds.vtp, written at the end, holds the broken ones (lab/toolkit/broken_bonds.hpp), each
+// with the test's strain it broke at (test_strain_broken; cycles_broken in the cyclic test).
 // Keys: element_test_schema(); `dem-element-test --help` lists them.
 #pragma once
 
@@ -31,11 +33,13 @@
 #include <cstdint>
 #include <filesystem>
 #include <iosfwd>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <dem/io/config.hpp>
 #include <dem/lab/protocols/cyclic_shear_config.hpp>
+#include <dem/lab/toolkit/broken_bonds.hpp>
 #include <dem/lab/toolkit/cementation.hpp>
 #include <dem/lab/toolkit/contact_config.hpp>
 #include <dem/lab/toolkit/cyclic_path.hpp>
@@ -160,6 +164,7 @@ class ElementTest {
   double profile_r2_ = 0.0;         // its R^2 over the interval that ended at the row being recorded
   PeriodicInterval span_start_;     // ... and at the first row at 20 % shear strain (the NGI cell's span)
   double span_from_strain_ = 0.0;   // -, the shear strain of that row
+  std::unique_ptr<BrokenBondLog> broken_bonds_;  // a cemented run's: the test's strain each bond broke at
 };
 
 }  // namespace dem::lab
