@@ -341,6 +341,8 @@ TEST_CASE("parallel bond: one and two threads give the same bits", "[physics][bo
   World one = bonded_block(1, 1), two = bonded_block(2, 1);
   one.step(400), two.step(400);
   REQUIRE(two.pair_plan(ContactKind::BallBall).shares.size() == 3);  // the pair loop ran on two threads
+  REQUIRE(static_cast<std::int64_t>(two.bonds().size()) >= min_parallel_items);  // and the bonds' blocks
+  REQUIRE(two.bonds().count(BondStatus::intact) < two.bonds().size());           // some of them broke
   const ParticleStore& p = one.particles();
   const ParticleStore& q = two.particles();
   REQUIRE(same_bits(p.x, q.x));

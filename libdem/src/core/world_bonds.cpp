@@ -1,9 +1,11 @@
 // The bonds' part of a step: after the contact laws have summed their forces, the intact bonds in
 // bond order are taken in blocks: each block's balls' motion is copied out, the bonds' law
 // (contact/parallel_bond.hpp, update_lanes) runs for the whole block in SIMD lanes, and then each
-// bond in turn stores its loads and adds its force and torques into its balls' sums. One thread:
-// every ball's sum gets its bond parts in the same order whatever the thread count, so the results
-// are the same bits on any team, and the same as one bond at a time on any instruction set.
+// bond in turn stores its loads and adds its force and torques into its balls' sums. On a team,
+// each thread computes the blocks of its share of the bonds and keeps their outcomes, and then one
+// thread adds them: every ball's sum gets its bond parts in bond order whatever the thread count,
+// so the results are the same bits on any team, and the same as one bond at a time on any
+// instruction set.
 //
 // Why blocks: one bond's arithmetic is a chain of dependent square roots and divisions (the loads
 // rotated into the bond plane, the edge stresses), which one bond at a time leaves the processor
@@ -14,8 +16,10 @@
 // bond is far shorter than half the cell, which the World keeps at least three search cells wide.
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include <dem/base/errors.hpp>
+#include <dem/base/threads.hpp>
 #include <dem/contact/lanes.hpp>
 #include <dem/core/block_isa.hpp>
 #include <dem/core/block_targets.hpp>
@@ -84,6 +88,25 @@ DEM_TARGET_AVX2 void bond_block_avx2(BondBlock& b, int count, double dt) { bond_
 DEM_TARGET_AVX512 void bond_block_avx512(BondBlock& b, int count, double dt) { bond_lanes(b, count, dt); }
 void bond_block_scalar(BondBlock& b, int count, double dt) { bond_lanes(b, count, dt); }
 
+/// What one bond of a block did this step (the block's results for entry m): enough to add it to
+/// its balls later, in bond order.
+struct BondOutcome {
+  std::size_t bond, first, second;  // bond index; balls' storage indices
+  int status;                       // BondStatus
+  double distance;                  // m, of the centres
+  Lane3 force, torque_first, torque_second;
+};
+BondOutcome outcome(const BondBlock& b, int m) {
+  return {b.bond[m],
+          b.first[m],
+          b.second[m],
+          b.status[m],
+          b.distance[m],
+          {b.fx[m], b.fy[m], b.fz[m]},
+          {b.t1x[m], b.t1y[m], b.t1z[m]},
+          {b.t2x[m], b.t2y[m], b.t2z[m]}};
+}
+
 using BondKernel = void (*)(BondBlock&, int, double);
 BondKernel bond_kernel() {
   switch (detail::block_isa()) {
@@ -136,8 +159,7 @@ void World::compute_bond_forces() {
   ParticleStore& p = state_.particles;
   const PeriodicCell* cell = state_.cell ? &*state_.cell : nullptr;
   const BondKernel kernel = bond_kernel();
-  thread_local BondBlock block;  // 30 kB: not on the stack
-  BondBlock& b = block;
+  const double dt = state_.clock.dt;
   // The arrays as plain pointers: the block's stores could otherwise alias the vectors' own
   // pointers for the compiler, which would then reload them for every bond.
   const std::size_t total = bonds.size();
@@ -152,11 +174,12 @@ void World::compute_bond_forces() {
   const double* ball_radius = p.radius.data();
   Vec3 *f = p.f.data(), *t = p.t.data();
   const auto intact = static_cast<std::uint8_t>(BondStatus::intact);
-  std::size_t next = 0;
-  while (next < total) {
-    // 1. the next intact bonds, their balls' motion and their loads copied into the block
+
+  // 1. The intact bonds of [next, end), up to a block's worth, copied into `b` with their balls'
+  //    motion and their loads; `next` moves past them. Returns how many.
+  const auto gather = [&](BondBlock& b, std::size_t& next, std::size_t end) {
     int count = 0;
-    for (; next < total && count < bond_block; ++next) {
+    for (; next < end && count < bond_block; ++next) {
       if (status[next] != intact) continue;
       const std::size_t k = next, i = p.index_of(first[k]), j = p.index_of(second[k]);
       Vec3 d = x[j] - x[i];  // branch, m
@@ -178,27 +201,63 @@ void World::compute_bond_forces() {
       b.fsx[m] = shear_force[k].x(), b.fsy[m] = shear_force[k].y(), b.fsz[m] = shear_force[k].z();
       b.mbx[m] = bend_moment[k].x(), b.mby[m] = bend_moment[k].y(), b.mbz[m] = bend_moment[k].z();
     }
-    if (count == 0) break;
-    // 2. the law, every bond of the block side by side
-    kernel(b, count, state_.clock.dt);
-    // 3. in bond order: the loads stored (a broken bond keeps those that broke it:
-    //    BondStore::released_energy), and an intact bond's force and torques added to its balls
+    return count;
+  };
+  // 2. (the law: kernel) 3. The block's loads stored, each bond's own entries (any thread may):
+  //    a broken bond keeps those that broke it (BondStore::released_energy).
+  const auto store_loads = [&](const BondBlock& b, int count) {
     for (int m = 0; m < count; ++m) {
-      const std::size_t k = b.bond[m], i = b.first[m], j = b.second[m];
-      if (!(b.distance[m] > 0.0)) fail("bond " + std::to_string(k) + " joins two balls at the same place", i);
+      const std::size_t k = b.bond[m];
       normal_force[k] = b.normal_force[m], twist_moment[k] = b.twist_moment[m];
       shear_force[k] = Vec3(b.fsx[m], b.fsy[m], b.fsz[m]);
       bend_moment[k] = Vec3(b.mbx[m], b.mby[m], b.mbz[m]);
-      if (b.status[m] != static_cast<int>(BondStatus::intact)) {
-        bonds.status[k] = static_cast<std::uint8_t>(b.status[m]);
-        continue;
-      }
-      f[j].x() += b.fx[m], f[j].y() += b.fy[m], f[j].z() += b.fz[m];
-      f[i].x() -= b.fx[m], f[i].y() -= b.fy[m], f[i].z() -= b.fz[m];
-      t[i].x() += b.t1x[m], t[i].y() += b.t1y[m], t[i].z() += b.t1z[m];
-      t[j].x() += b.t2x[m], t[j].y() += b.t2y[m], t[j].z() += b.t2z[m];
+    }
+  };
+  // 4. Bond k's outcome, in bond order on one thread: its status, or its force and torques added
+  //    to its balls' sums.
+  const auto add_to_balls = [&](const BondOutcome& o) {
+    const std::size_t k = o.bond, i = o.first, j = o.second;
+    if (!(o.distance > 0.0)) fail("bond " + std::to_string(k) + " joins two balls at the same place", i);
+    if (o.status != static_cast<int>(BondStatus::intact)) {
+      bonds.status[k] = static_cast<std::uint8_t>(o.status);
+      return;
+    }
+    f[j].x() += o.force.x, f[j].y() += o.force.y, f[j].z() += o.force.z;
+    f[i].x() -= o.force.x, f[i].y() -= o.force.y, f[i].z() -= o.force.z;
+    t[i].x() += o.torque_first.x, t[i].y() += o.torque_first.y, t[i].z() += o.torque_first.z;
+    t[j].x() += o.torque_second.x, t[j].y() += o.torque_second.y, t[j].z() += o.torque_second.z;
+  };
+
+  const int threads = threads_for(static_cast<std::int64_t>(total), threads_);
+  if (threads <= 1) {  // block after block, each added as soon as it is computed
+    thread_local BondBlock block;  // 30 kB: not on the stack
+    std::size_t next = 0;
+    while (const int count = gather(block, next, total)) {
+      kernel(block, count, dt);
+      store_loads(block, count);
+      for (int m = 0; m < count; ++m) add_to_balls(outcome(block, m));
+    }
+    return;
+  }
+  // Each thread computes the blocks of its share of the bonds and keeps their outcomes by bond;
+  // then one thread adds them in bond order (the sums of one thread: the same bits).
+  thread_local std::vector<BondOutcome> outcomes;  // the calling thread's, kept between steps
+  outcomes.resize(total);
+  BondOutcome* kept = outcomes.data();
+#pragma omp parallel for schedule(static) num_threads(open_team(threads))
+  for (int share = 0; share < threads; ++share) {
+    thread_local BondBlock block;
+    const auto shares = static_cast<std::size_t>(threads), s = static_cast<std::size_t>(share);
+    std::size_t next = total * s / shares;
+    const std::size_t end = total * (s + 1) / shares;
+    while (const int count = gather(block, next, end)) {
+      kernel(block, count, dt);
+      store_loads(block, count);
+      for (int m = 0; m < count; ++m) kept[block.bond[m]] = outcome(block, m);
     }
   }
+  for (std::size_t k = 0; k < total; ++k)
+    if (status[k] == intact) add_to_balls(kept[k]);  // intact before this step: computed above
 }
 
 }  // namespace dem
