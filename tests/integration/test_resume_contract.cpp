@@ -166,6 +166,15 @@ TEST_CASE("resume rules: what is done is fixed, what is to come and the outputs 
   CHECK(check_resume(schema, {{"ball_ball.law", "hertz-mindlin"}}, {{"ball_ball.law", "hertz-mindlin"}, {"ball_ball.rolling", "epsd"}},
                      RunProgress::Shearing, false, "f")
             .empty());
+  // A file made with an earlier default (specimen.porosity 0.4 until 2026-12-07) is refused with
+  // the --set that resumes it; another value in the file gets no such hint.
+  CHECK_THROWS_WITH(check_resume(schema, {{"specimen.porosity", "0.4"}}, {{"specimen.porosity", "0.46"}},
+                                 RunProgress::Consolidated, false, "f"),
+                    Contains("specimen.porosity = 0.46 here, 0.4 in the file") &&
+                        Contains("--set specimen.porosity=0.4 resumes the file"));
+  CHECK_THROWS_WITH(check_resume(schema, {{"specimen.porosity", "0.42"}}, {{"specimen.porosity", "0.46"}},
+                                 RunProgress::Consolidated, false, "f"),
+                    !Contains("resumes the file"));
   // Unchanged keys and keys of another schema version pass without a word.
   CHECK(check_resume(schema, {{"shear.mode", "drained"}, {"old.key", "1"}}, {{"shear.mode", "drained"}, {"new.key", "2"}},
                      RunProgress::Done, false, "f")

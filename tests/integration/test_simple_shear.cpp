@@ -79,11 +79,13 @@ TEST_CASE("simple shear: a reduced specimen runs end to end with consistent outp
   CHECK(last[h.column("sigma_1")] >= last[h.column("sigma_2")]);
   CHECK(last[h.column("sigma_2")] >= last[h.column("sigma_3")]);
   // After consolidation the major direction is vertical to the probe's noise (a specimen ~5 balls
-  // high: 6 degrees on this packing), apart from the > 10 degrees the shear brings; sheared, it
-  // tilts in the shear sense, towards 45 deg +- phi/2 at failure. 3 % strain is short of failure
-  // for this loose specimen, and the probe holds few balls, so only the range is checked.
-  CHECK(std::abs(first[h.column("principal_rotation_deg")]) < 8.0);
-  CHECK(last[h.column("principal_rotation_deg")] > 10.0);
+  // high: 2 degrees at porosity 0.40, 10 at the preset's 0.46); sheared, it tilts in the shear
+  // sense, towards 45 deg +- phi/2 at failure (19-26 degrees more by 3 % on these packings). 3 % is
+  // short of failure for this loose specimen, and the probe holds few balls, so only the range and
+  // a tilt of more than 10 degrees past the consolidated one are checked.
+  const double rotation_consolidated = first[h.column("principal_rotation_deg")];
+  CHECK(std::abs(rotation_consolidated) < 12.0);
+  CHECK(last[h.column("principal_rotation_deg")] > rotation_consolidated + 10.0);
   CHECK(last[h.column("principal_rotation_deg")] < 70.0);
   // Summary agrees with the history.
   const auto s = dem::testing::load_json(dir / "summary.json");

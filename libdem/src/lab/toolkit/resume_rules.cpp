@@ -60,6 +60,19 @@ const std::map<std::string, std::string>& values_before_keys() {
   return values;
 }
 
+// Defaults an earlier libdem had, with the date they changed: a file whose run used the old one
+// (the user may never have set the key) is refused with the --set that resumes it.
+struct EarlierDefault {
+  const char* value;
+  const char* until;
+};
+const std::map<std::string, EarlierDefault>& earlier_defaults() {
+  static const std::map<std::string, EarlierDefault> values = {
+      {"specimen.porosity", {"0.4", "2026-12-07"}},  // 0.46 since (docs/size-effect.md)
+  };
+  return values;
+}
+
 }  // namespace
 
 std::vector<ResumeChange> check_resume(const io::Schema& schema, const std::vector<std::pair<std::string, std::string>>& file_record,
@@ -83,6 +96,9 @@ std::vector<ResumeChange> check_resume(const io::Schema& schema, const std::vect
     }
     refused << (refusals++ ? "; " : "") << key << " = " << value << " here, " << it->second << " in the file (" << rule.why
             << ")";
+    if (const auto old = earlier_defaults().find(key); old != earlier_defaults().end() && it->second == old->second.value)
+      refused << " [" << it->second << " was the default until " << old->second.until << ": --set " << key << "="
+              << it->second << " resumes the file]";
   }
   if (refusals > 0) {
     std::string hint = "resume with the file's values (the same --preset, --config and --set)";

@@ -123,7 +123,7 @@ const BindingTable<SpecimenConfig>& specimen_keys() {
   static const BindingTable<S> table = {
       {"diameter", &S::diameter, "m", "specimen diameter", 0.0, 10.0, true},
       {"height", &S::height, "m", "specimen height before consolidation", 0.0, 10.0, true},
-      {"porosity", &S::porosity, "-", "target porosity of the generation; sets the ball count (the study's 0.37 is denser than spheres with friction pack at a low stress: docs/size-effect.md)", 0.2, 0.8},
+      {"porosity", &S::porosity, "-", "target porosity of the generation; sets the ball count (0.46 gives about the study's 3.3-3.6 contacts a ball after consolidation and its principal stress rotation; its 0.37 is denser than spheres with friction pack at a low stress: docs/size-effect.md)", 0.2, 0.8},
       {"density", &S::density, "kg/m^3", "particle density", 1.0, 1e5},
       {"seed", &S::seed, "-", "random seed of the generation", 0.0},
   };

@@ -33,7 +33,7 @@ namespace dem::lab {
 struct SpecimenConfig {
   double diameter = 0.070;  // m
   double height = 0.022;    // m, before consolidation
-  double porosity = 0.40;   // -, target of the generation (sets the ball count)
+  double porosity = 0.46;   // -, target of the generation (sets the ball count; docs/size-effect.md says why 0.46)
   double density = 2650.0;  // kg/m^3, particle density
   std::uint64_t seed = 1;   // random seed of the generation
 
