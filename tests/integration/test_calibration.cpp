@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 
 #include <dem/core/errors.hpp>
@@ -427,12 +428,27 @@ TEST_CASE("calibration: parallel trials give the same trials as serial ones, fro
     settings.parallel_trials = parallel;
     settings.threads = parallel;
     const fs::path out = dir / ("run" + std::to_string(parallel));
-    Calibration calibration(start, settings, read_lab_curve(lab_file), out, consolidated, log);
+    std::ostringstream run_log;
+    Calibration calibration(start, settings, read_lab_curve(lab_file), out, consolidated, run_log);
     const CalibrationResult result = calibration.run();
     CHECK(result.new_trials >= 4);
     CHECK_FALSE(fs::exists(out / "specimen" / "generated"));  // nothing generated or consolidated
     runs.push_back(io::read_csv(out / "trials.csv"));
     best.push_back(result.best);
+    // Each progress line names its trial by trials.csv's number, with that trial's friction (two
+    // trials at a time finish out of number order: a count in place of the number misnamed them).
+    const io::CsvData& rows = runs.back();
+    const std::regex progress_line(R"(trial (\d+) \(\d+ of at most \d+\), stage [^:]*: [^|]*mu = ([0-9.e+-]+))");
+    const std::string text = run_log.str();
+    int lines = 0;
+    for (std::sregex_iterator m(text.begin(), text.end(), progress_line), end; m != end; ++m, ++lines) {
+      const auto number = static_cast<std::size_t>(std::stoul((*m)[1].str()));
+      REQUIRE(number >= 1);
+      REQUIRE(number <= rows.rows.size());
+      CHECK(std::stod((*m)[2].str()) == Approx(rows.rows[number - 1][rows.column("friction")]).epsilon(1e-3));
+    }
+    CHECK(lines >= result.new_trials);
+    log << text;
   }
   INFO(log.str());
   CHECK(best[0] == best[1]);

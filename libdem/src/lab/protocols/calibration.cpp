@@ -279,7 +279,10 @@ std::vector<TrialResult> Calibration::evaluate(const std::vector<ContactFit>& ba
     const auto lowest = std::min_element(trials_.begin(), trials_.end(),
                                          [&](const TrialResult& a, const TrialResult& b) { return objective(a) < objective(b); });
     std::ostringstream line;
-    line << "trial " << p.asked << " of at most " << p.max_trials << ", stage " << stage_names[stage] << (reused ? ", reused" : "")
+    // The trial's own number (trials.csv's, which "best so far" names too), then how many have been
+    // reported: parallel trials finish out of number order.
+    line << "trial " << t.trial << " (" << p.asked << " of at most " << p.max_trials << "), stage " << stage_names[stage]
+         << (reused ? ", reused" : "")
          << (rank >= 0 && farm_->processes() > 1 ? " on rank " + std::to_string(rank) : std::string())
          << ": " << describe(t.fit, modulus_symbol_) << ", mean RD " << detail::short_text(t.stress_rd_mean, 3) << " %";
     if (t.volumetric_rd_mean >= 0) line << " (volumetric " << detail::short_text(t.volumetric_rd_mean, 3) << " %)";
