@@ -14,6 +14,7 @@
 // The bond point is where a contact's would be: on the line of centres, halfway across the gap (or
 // the overlap). In a periodic cell piece 2 is the image nearest to piece 1, found each step: a
 // bond is far shorter than half the cell, which the World keeps at least three search cells wide.
+#include <array>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -35,8 +36,8 @@ constexpr int bond_block = 64;
 /// place) and the results, one entry per bond.
 struct BondBlock {
   std::size_t bond[bond_block], first[bond_block], second[bond_block];  // bond index; balls' storage indices
-  // inputs: branch d = x2 - x1 (m; piece 2's nearest image in a cell), radii (m), piece 2's
-  // velocity (its image's) and both pieces' velocity of piece 1 and angular velocities
+  // inputs: branch d = x2 - x1 (m; to piece 2's nearest image in a cell), radii (m), both pieces'
+  // velocities (piece 2's image's, m/s) and angular velocities (rad/s), x y z of each bond in turn
   double dx[bond_block], dy[bond_block], dz[bond_block], radius_1[bond_block], radius_2[bond_block];
   double v1[3 * bond_block], v2[3 * bond_block], w1[3 * bond_block], w2[3 * bond_block];
   // the bonds' parameters (ParallelBondLaw::Params; tan(phi) for the friction angle)
