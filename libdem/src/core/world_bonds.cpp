@@ -197,7 +197,7 @@ void World::compute_bond_forces() {
       b.radius[m] = radius[k], b.normal_stiffness[m] = normal_stiffness[k];
       b.shear_stiffness[m] = shear_stiffness[k], b.tensile_strength[m] = tensile_strength[k];
       b.cohesion[m] = cohesion[k];
-      b.tan_phi[m] = friction_angle[k] == 0.0 ? 0.0 : ParallelBondLaw::tan_friction(bonds.params(k));
+      b.tan_phi[m] = ParallelBondLaw::tan_friction(friction_angle[k]);
       b.normal_force[m] = normal_force[k], b.twist_moment[m] = twist_moment[k];
       b.fsx[m] = shear_force[k].x(), b.fsy[m] = shear_force[k].y(), b.fsz[m] = shear_force[k].z();
       b.mbx[m] = bend_moment[k].x(), b.mby[m] = bend_moment[k].y(), b.mbz[m] = bend_moment[k].z();

@@ -86,7 +86,7 @@ struct ParallelBondLaw {
   /// the State is zero and `at_break`, if given, receives the loads that broke it).
   static BondStatus update(const Params& p, const Motion& m, State& s, State* at_break = nullptr) {
     LaneState l{s.normal_force, lane(s.shear_force), s.twist_moment, lane(s.bend_moment)};
-    const auto out = static_cast<BondStatus>(update_lanes(p, tan_friction(p), lane(m.normal), lane(m.relative_velocity),
+    const auto out = static_cast<BondStatus>(update_lanes(p, tan_friction(p.friction_angle), lane(m.normal), lane(m.relative_velocity),
                                                           lane(m.relative_angular_velocity), m.dt, l));
     s = {l.normal_force, to_vec3(l.shear_force), l.twist_moment, to_vec3(l.bend_moment)};
     if (out != BondStatus::intact) {
@@ -107,8 +107,8 @@ struct ParallelBondLaw {
   /// update() for the engine's SIMD bond blocks: the bond's loads advanced by one step over the
   /// relative motion (unit `normal`, velocity and angular velocity of piece 2 relative to piece 1)
   /// in plain doubles and without branches, the loads kept even when it breaks; returns the
-  /// BondStatus as an int. `tan_phi` is tan_friction(p). update() calls it: one formula, the same
-  /// bits in lanes as one bond at a time.
+  /// BondStatus as an int. `tan_phi` is tan_friction(p.friction_angle). update() calls it: one
+  /// formula, the same bits in lanes as one bond at a time.
   DEM_HOT_INLINE static int update_lanes(const Params& p, double tan_phi, const Lane3& normal,
                                          const Lane3& relative_velocity, const Lane3& relative_angular_velocity,
                                          double dt, LaneState& s) {
@@ -134,8 +134,9 @@ struct ParallelBondLaw {
     return tensile > p.tensile_strength ? static_cast<int>(BondStatus::broken_tension) : broken_in_shear;
   }
 
-  /// tan(phi) for update_lanes (0 for phi = 0, the usual cement, without calling tan()).
-  static double tan_friction(const Params& p) { return p.friction_angle == 0.0 ? 0.0 : std::tan(p.friction_angle); }
+  /// tan(phi) of a friction angle (rad) for update_lanes: 0 for phi = 0, the usual cement, without
+  /// calling tan().
+  static double tan_friction(double friction_angle) { return friction_angle == 0.0 ? 0.0 : std::tan(friction_angle); }
 
   /// The elastic energy the bond stores with loads `s`, J (PFC's pb strain energy):
   /// Fn^2 / (2 kn A) + |Fs|^2 / (2 ks A) + Mt^2 / (2 ks J) + |Mb|^2 / (2 kn I).
